@@ -1,0 +1,43 @@
+//! Independent analytical and semi-analytical reference solutions.
+//!
+//! These are the yardsticks against which the numerical models (lumped mass, Hermite finite
+//! elements, modal reduction, Newmark integration) are verified, so nothing here uses the
+//! `bridge` or `solver` modules: every formula is coded afresh from its textbook source,
+//! cited at the function that implements it.
+//!
+//! Sign convention: in this whole module vertical displacements of the beam and of vehicle
+//! masses, and forces on the beam, are positive DOWNWARD (a load sags the beam by a
+//! positive deflection). Road irregularities are road-surface elevations, positive UPWARD,
+//! as road profiles are usually given. Callers using an upward-positive convention negate
+//! displacements.
+//!
+//! - [`beam`]: the simply supported Euler-Bernoulli beam (frequencies, modes, statics) and
+//!   modal damping laws.
+//! - [`moving_force`]: Fryba's closed-form modal solution for constant forces crossing
+//!   the beam (one force or an axle train).
+//! - [`sprung_mass`]: a sprung mass crossing the beam, coupled through its suspension,
+//!   integrated in modal coordinates with an adaptive Dormand-Prince method ([`dopri45`]),
+//!   optionally over a deterministic road profile ([`road_irregularity`]).
+//! - [`frf`]: steady-state harmonic response of linear MDOF systems to base excitation.
+//! - [`oscillator`]: the exact damped single-degree-of-freedom free response and the
+//!   Newmark average-acceleration period elongation.
+
+pub mod beam;
+pub mod dopri45;
+pub mod frf;
+pub mod moving_force;
+pub mod oscillator;
+pub mod road_irregularity;
+pub mod sprung_mass;
+
+pub use beam::{ModalDamping, SimplySupportedBeam};
+pub use dopri45::{Dopri45, Dopri45Options, Dopri45Stats};
+pub use frf::{harmonic_response, HarmonicResponse};
+pub use moving_force::{MovingForceSolution, MovingLoadTrain};
+pub use oscillator::{
+    newmark_average_acceleration_period_ratio, DampedOscillator, OscillatorState,
+};
+pub use road_irregularity::RoadIrregularity;
+pub use sprung_mass::{
+    SprungMassOptions, SprungMassProblem, SprungMassSample, SprungMassSolution, SprungMassVehicle,
+};

@@ -1,0 +1,185 @@
+//! A Hermite beam mesh: nodes, elements, supports and the map from node DOFs to
+//! equation numbers. Both the finite-element model and the lumped-mass model (through
+//! static condensation) are built on it, which is what lets non-uniform EI and more
+//! supports enter without a rewrite.
+
+use nalgebra::DMatrix;
+
+use super::beam::BeamProperties;
+use super::hermite::{
+    element_consistent_mass, element_stiffness, shape, shape_dx, shape_dxx, ShapeValues,
+};
+use super::sparse::SparseVec;
+
+/// One beam element between nodes `i` and `i + 1`.
+#[derive(Debug, Clone)]
+pub struct Element {
+    pub length_m: f64,
+    pub ei_n_m2: f64,
+    pub mass_per_length_kg_m: f64,
+}
+
+/// Nodes along the span with (w, theta) DOFs; w is fixed at the supports.
+#[derive(Debug, Clone)]
+pub struct HermiteMesh {
+    /// Node abscissae, strictly increasing, first 0 and last the span (m).
+    pub node_x_m: Vec<f64>,
+    pub elements: Vec<Element>,
+    /// Equation number of (w, theta) at each node; `None` where constrained.
+    pub dof: Vec<[Option<usize>; 2]>,
+    pub n_dof: usize,
+}
+
+/// Which quantity a point operator interpolates.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PointQuantity {
+    /// w(x): also the consistent load vector of a unit force.
+    Deflection,
+    /// dw/dx(x).
+    Slope,
+    /// EI w''(x): the bending moment (sagging positive).
+    Moment,
+}
+
+impl HermiteMesh {
+    /// A mesh with the given node abscissae; w fixed at every support abscissa (which
+    /// must be nodes). EI per element is the mean over the element.
+    pub fn new(beam: &BeamProperties, node_x_m: Vec<f64>, supports_m: &[f64]) -> Self {
+        let elements = node_x_m
+            .windows(2)
+            .map(|pair| Element {
+                length_m: pair[1] - pair[0],
+                ei_n_m2: beam.mean_ei_n_m2(pair[0], pair[1]),
+                mass_per_length_kg_m: beam.mass_per_length_kg_m,
+            })
+            .collect();
+        let tolerance_m = 1e-9 * beam.span_m;
+        let mut n_dof = 0;
+        let dof = node_x_m
+            .iter()
+            .map(|&x| {
+                let supported = supports_m.iter().any(|&s| (s - x).abs() < tolerance_m);
+                let w = (!supported).then(|| {
+                    n_dof += 1;
+                    n_dof - 1
+                });
+                n_dof += 1;
+                [w, Some(n_dof - 1)]
+            })
+            .collect();
+        HermiteMesh {
+            node_x_m,
+            elements,
+            dof,
+            n_dof,
+        }
+    }
+
+    /// Simply supported beam with `n_elements` equal elements.
+    pub fn simply_supported(beam: &BeamProperties, n_elements: usize) -> Self {
+        let nodes = (0..=n_elements)
+            .map(|i| beam.span_m * i as f64 / n_elements as f64)
+            .collect();
+        Self::new(beam, nodes, &[0.0, beam.span_m])
+    }
+
+    /// Equation numbers of the element's four DOFs.
+    fn element_dofs(&self, e: usize) -> [Option<usize>; 4] {
+        let (a, b) = (self.dof[e], self.dof[e + 1]);
+        [a[0], a[1], b[0], b[1]]
+    }
+
+    fn assemble(
+        &self,
+        element_matrix: impl Fn(&Element) -> super::hermite::ElementMatrix,
+    ) -> DMatrix<f64> {
+        let mut global = DMatrix::zeros(self.n_dof, self.n_dof);
+        for (e, element) in self.elements.iter().enumerate() {
+            let local = element_matrix(element);
+            let dofs = self.element_dofs(e);
+            for (r, gr) in dofs.iter().enumerate() {
+                let Some(gr) = gr else { continue };
+                for (c, gc) in dofs.iter().enumerate() {
+                    if let Some(gc) = gc {
+                        global[(*gr, *gc)] += local[(r, c)];
+                    }
+                }
+            }
+        }
+        global
+    }
+
+    /// Global stiffness over the free DOFs.
+    pub fn stiffness(&self) -> DMatrix<f64> {
+        self.assemble(|e| element_stiffness(e.ei_n_m2, e.length_m))
+    }
+
+    /// Global consistent mass over the free DOFs.
+    pub fn consistent_mass(&self) -> DMatrix<f64> {
+        self.assemble(|e| element_consistent_mass(e.mass_per_length_kg_m, e.length_m))
+    }
+
+    /// The element containing `x_m` (clamped to the span) and the local coordinate.
+    pub fn locate(&self, x_m: f64) -> (usize, f64) {
+        let last = self.elements.len() - 1;
+        // partition_point: number of nodes <= x; the element starts at the node before.
+        let e = self
+            .node_x_m
+            .partition_point(|&node| node <= x_m)
+            .saturating_sub(1)
+            .min(last);
+        let xi = ((x_m - self.node_x_m[e]) / self.elements[e].length_m).clamp(0.0, 1.0);
+        (e, xi)
+    }
+
+    /// Fills `out` with the weights of `quantity` at `x_m` over the free DOFs.
+    pub fn point_operator(&self, x_m: f64, quantity: PointQuantity, out: &mut SparseVec) {
+        out.clear();
+        self.for_each_weight(x_m, quantity, |dof, w| out.push(dof, w));
+    }
+
+    /// Calls `f(dof, weight)` for the (at most four) free DOFs that carry `quantity` at `x_m`.
+    pub fn for_each_weight(
+        &self,
+        x_m: f64,
+        quantity: PointQuantity,
+        mut f: impl FnMut(usize, f64),
+    ) {
+        let (e, xi) = self.locate(x_m);
+        let element = &self.elements[e];
+        let values: ShapeValues = match quantity {
+            PointQuantity::Deflection => shape(xi, element.length_m),
+            PointQuantity::Slope => shape_dx(xi, element.length_m),
+            PointQuantity::Moment => shape_dxx(xi, element.length_m) * element.ei_n_m2,
+        };
+        for (k, dof) in self.element_dofs(e).iter().enumerate() {
+            if let Some(d) = dof {
+                f(*d, values[k]);
+            }
+        }
+    }
+
+    /// Indices of the translational (w) and rotational (theta) free DOFs.
+    pub fn split_dofs(&self) -> (Vec<usize>, Vec<usize>) {
+        let w = self.dof.iter().filter_map(|d| d[0]).collect();
+        let theta = self.dof.iter().filter_map(|d| d[1]).collect();
+        (w, theta)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn locate_finds_element_and_local_coordinate() {
+        let beam = BeamProperties::paper_default();
+        let mesh = HermiteMesh::simply_supported(&beam, 10);
+        assert_eq!(mesh.locate(0.0), (0, 0.0));
+        let (e, xi) = mesh.locate(4.5);
+        assert_eq!(e, 1);
+        assert!((xi - 0.5).abs() < 1e-12);
+        assert_eq!(mesh.locate(30.0), (9, 1.0));
+        assert_eq!(mesh.n_dof, 2 * 10);
+    }
+}

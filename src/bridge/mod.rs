@@ -1,0 +1,24 @@
+//! Bridge models: the beam, its discretizations (lumped mass by flexibility, Hermite
+//! finite elements, modal), modes, Rayleigh damping and point operators.
+
+mod beam;
+mod hermite;
+mod lumped;
+mod mesh;
+mod model;
+mod modes;
+mod sparse;
+
+pub use beam::{BeamProperties, StiffnessRegion};
+pub use hermite::{element_consistent_mass, element_stiffness};
+pub use lumped::{
+    condensation_mesh, condense, flexibility_matrix, mass_positions_m, stiffness_by_flexibility,
+    unit_load_deflection_m_per_n,
+};
+pub use mesh::{HermiteMesh, PointQuantity};
+pub use model::{BridgeModel, LumpedStiffness, ModelSpec};
+pub use modes::{generalized_modes, Modes, Rayleigh};
+pub use sparse::SparseVec;
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,95 @@
+//! Command-line interface: argument parsing, dispatch, printing, exit codes. The only
+//! module that prints.
+
+mod verify_cmd;
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+/// Digital twin of a road bridge under traffic: vehicle-bridge interaction to MCAP.
+#[derive(Debug, Parser)]
+#[command(name = "bridgetwin", version, about, long_about = None)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Run the analytical verification ladder (exit code 1 if any check fails).
+    Verify(VerifyArgs),
+    /// Reproduce the paper's studies and go past them (CSV, SVG, summary.md).
+    Study(StudyArgs),
+}
+
+#[derive(Debug, clap::Args)]
+pub struct VerifyArgs {
+    /// Print JSON rows instead of a table.
+    #[arg(long)]
+    pub json: bool,
+    /// Run only the groups whose name contains this text.
+    #[arg(long)]
+    pub only: Option<String>,
+}
+
+#[derive(Debug, clap::Args)]
+pub struct StudyArgs {
+    /// Which study.
+    #[arg(value_enum)]
+    pub which: StudyKind,
+    /// Output directory (created if missing).
+    #[arg(long)]
+    pub out: PathBuf,
+    /// A reduced grid that runs in seconds (CI).
+    #[arg(long)]
+    pub quick: bool,
+}
+
+#[derive(Debug, Clone, Copy, clap::ValueEnum)]
+pub enum StudyKind {
+    /// Lumped mass vs finite elements: error and cost vs n and dt (the paper's section 6).
+    Discretization,
+}
+
+/// Parses arguments, runs the command and maps the outcome to an exit code:
+/// 0 ok, 1 error (or failed verification), 2 usage.
+pub fn main() -> ExitCode {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => {
+            let code = if e.use_stderr() { 2 } else { 0 };
+            let _ = e.print();
+            return ExitCode::from(code);
+        }
+    };
+    let outcome = match cli.command {
+        Command::Verify(args) => verify_cmd::run(&args),
+        Command::Study(args) => {
+            let mut progress = |line: &str| eprintln!("  {line}");
+            crate::study::run_named(args.which_name(), &args.out, args.quick, &mut progress)
+                .map(|()| {
+                    eprintln!("wrote {}", args.out.display());
+                    true
+                })
+                .map_err(anyhow::Error::from)
+        }
+    };
+    match outcome {
+        Ok(true) => ExitCode::SUCCESS,
+        Ok(false) => ExitCode::from(1),
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::from(1)
+        }
+    }
+}
+
+impl StudyArgs {
+    fn which_name(&self) -> &'static str {
+        match self.which {
+            StudyKind::Discretization => "discretization",
+        }
+    }
+}

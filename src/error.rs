@@ -1,0 +1,79 @@
+//! The library's error type. Every variant carries the offending value so that the
+//! message alone tells the user what to fix.
+
+use thiserror::Error;
+
+/// Errors of the physics and I/O layers.
+#[derive(Debug, Error)]
+pub enum Error {
+    /// A parameter is out of its valid range. `field` is the scenario path or argument name.
+    #[error("{field} = {value} {reason}")]
+    InvalidParameter {
+        field: String,
+        value: String,
+        reason: String,
+    },
+    /// A linear system could not be factorized (not positive definite, singular).
+    #[error("factorization of {what} failed: {reason}")]
+    Factorization { what: String, reason: String },
+    /// A file could not be read or parsed.
+    #[error("{path}: {reason}")]
+    File { path: String, reason: String },
+    /// The time integration produced a non-finite or runaway state.
+    #[error("divergence at t = {time_s} s (step {step}): {quantity} = {value}; {hint}")]
+    Divergence {
+        time_s: f64,
+        step: u64,
+        quantity: String,
+        value: f64,
+        hint: String,
+    },
+    /// Output could not be written.
+    #[error("writing {path}: {reason}")]
+    Output { path: String, reason: String },
+}
+
+/// Shorthand used across the library.
+pub type Result<T> = std::result::Result<T, Error>;
+
+impl Error {
+    /// A parameter error; `value` is formatted with `Display`.
+    pub fn invalid(
+        field: impl Into<String>,
+        value: impl std::fmt::Display,
+        reason: impl Into<String>,
+    ) -> Self {
+        Error::InvalidParameter {
+            field: field.into(),
+            value: value.to_string(),
+            reason: reason.into(),
+        }
+    }
+}
+
+/// Checks that `value` is finite and strictly positive.
+pub fn require_positive(field: &str, value: f64) -> Result<f64> {
+    if value.is_finite() && value > 0.0 {
+        Ok(value)
+    } else {
+        Err(Error::invalid(field, value, "must be a finite number > 0"))
+    }
+}
+
+/// Checks that `value` is finite and >= 0.
+pub fn require_non_negative(field: &str, value: f64) -> Result<f64> {
+    if value.is_finite() && value >= 0.0 {
+        Ok(value)
+    } else {
+        Err(Error::invalid(field, value, "must be a finite number >= 0"))
+    }
+}
+
+/// Checks that `value` is finite.
+pub fn require_finite(field: &str, value: f64) -> Result<f64> {
+    if value.is_finite() {
+        Ok(value)
+    } else {
+        Err(Error::invalid(field, value, "must be a finite number"))
+    }
+}

@@ -1,0 +1,19 @@
+//! bridgetwin: a digital twin of a road bridge under traffic.
+//!
+//! The modules follow the layers of `ARCHITECTURE.md`, top to bottom; a module only uses
+//! the ones below it. Physics (`bridge`, `vehicle`, `road`, `solver`, `analytic`) never
+//! touches output (`sink`) or the command line (`cli`).
+
+pub mod analytic;
+pub mod bridge;
+pub mod cli;
+pub mod error;
+pub mod plot;
+pub mod road;
+pub mod sink;
+pub mod solver;
+pub mod study;
+pub mod vehicle;
+pub mod verify;
+
+pub use error::{Error, Result};

@@ -1,0 +1,131 @@
+//! Topic names of the output contract (`ARCHITECTURE.md`), built in one place so that a
+//! typo cannot create a topic the tools and layouts do not know.
+
+use crate::error::{Error, Result};
+
+/// Builds and checks topic names. Segments are restricted to `[A-Za-z0-9_-]` so that
+/// they are safe in Foxglove message paths, file names and shell globs.
+#[derive(Debug, Clone, Copy)]
+pub struct Topics;
+
+impl Topics {
+    /// Dynamic contact force of every axle (`AxleLoads`).
+    pub const AXLE_LOADS: &'static str = "/truth/axle_loads";
+    /// One record per vehicle (`VehicleTruth`).
+    pub const VEHICLES: &'static str = "/truth/vehicles";
+    /// Deflected shape and modal state (`BridgeState`).
+    pub const BRIDGE: &'static str = "/truth/bridge";
+    /// Events as `foxglove.Log`.
+    pub const EVENTS: &'static str = "/events";
+    /// Suffix of a sensor's block-layout topic when both layouts are written in one file
+    /// (`/sensors/accel/A1/blocks`); a single-layout file uses the plain sensor topic.
+    pub const BLOCKS_SUFFIX: &'static str = "/blocks";
+
+    /// `/sensors/accel/<id>`: accelerometer as recorded by the DAQ.
+    pub fn accel(id: &str) -> Result<String> {
+        Self::with_segment("/sensors/accel/", "sensor id", id)
+    }
+
+    /// `/sensors/strain/<id>`: strain gauge as recorded by the DAQ.
+    pub fn strain(id: &str) -> Result<String> {
+        Self::with_segment("/sensors/strain/", "sensor id", id)
+    }
+
+    /// `/sensors/disp/<id>`: displacement transducer as recorded by the DAQ.
+    pub fn disp(id: &str) -> Result<String> {
+        Self::with_segment("/sensors/disp/", "sensor id", id)
+    }
+
+    /// `/truth/sensors/<id>`: noise-free response at the sensor location.
+    pub fn truth_sensor(id: &str) -> Result<String> {
+        Self::with_segment("/truth/sensors/", "sensor id", id)
+    }
+
+    /// `/wim/<station>`: records of one weigh-in-motion station.
+    pub fn wim(station: &str) -> Result<String> {
+        Self::with_segment("/wim/", "WIM station id", station)
+    }
+
+    /// The block-layout topic next to a per-sample topic: `topic` + [`Self::BLOCKS_SUFFIX`].
+    pub fn blocks(topic: &str) -> Result<String> {
+        let blocks = format!("{topic}{}", Self::BLOCKS_SUFFIX);
+        validate_topic(&blocks)?;
+        Ok(blocks)
+    }
+
+    fn with_segment(prefix: &str, what: &str, segment: &str) -> Result<String> {
+        validate_segment(what, segment)?;
+        Ok(format!("{prefix}{segment}"))
+    }
+}
+
+/// Checks one topic segment (a sensor or station id): non-empty, `[A-Za-z0-9_-]` only.
+/// `what` names the value in the error message.
+pub fn validate_segment(what: &str, segment: &str) -> Result<()> {
+    let valid = !segment.is_empty()
+        && segment
+            .bytes()
+            .all(|b| b.is_ascii_alphanumeric() || b == b'_' || b == b'-');
+    if valid {
+        Ok(())
+    } else {
+        Err(Error::invalid(
+            what,
+            format!("{segment:?}"),
+            "must be non-empty and use only A-Z, a-z, 0-9, '_' and '-'",
+        ))
+    }
+}
+
+/// Checks a whole topic: a leading `/` and valid segments (`/a/b`, no trailing `/`).
+pub fn validate_topic(topic: &str) -> Result<()> {
+    let segments = topic
+        .strip_prefix('/')
+        .ok_or_else(|| Error::invalid("topic", format!("{topic:?}"), "must start with '/'"))?;
+    segments
+        .split('/')
+        .try_for_each(|segment| validate_segment("topic segment", segment))
+        .map_err(|_| {
+            Error::invalid(
+                "topic",
+                format!("{topic:?}"),
+                "segments must be non-empty and use only A-Z, a-z, 0-9, '_' and '-'",
+            )
+        })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn builds_contract_topics() {
+        assert_eq!(Topics::accel("A3").unwrap(), "/sensors/accel/A3");
+        assert_eq!(Topics::strain("S_1").unwrap(), "/sensors/strain/S_1");
+        assert_eq!(Topics::disp("D-2").unwrap(), "/sensors/disp/D-2");
+        assert_eq!(Topics::truth_sensor("A3").unwrap(), "/truth/sensors/A3");
+        assert_eq!(Topics::wim("north").unwrap(), "/wim/north");
+        assert_eq!(
+            Topics::blocks("/sensors/accel/A3").unwrap(),
+            "/sensors/accel/A3/blocks"
+        );
+        for topic in [
+            Topics::AXLE_LOADS,
+            Topics::VEHICLES,
+            Topics::BRIDGE,
+            Topics::EVENTS,
+        ] {
+            validate_topic(topic).unwrap();
+        }
+    }
+
+    #[test]
+    fn rejects_bad_segments() {
+        for bad in ["", "a/b", "a b", "a.b", "é", "x{y}"] {
+            assert!(Topics::accel(bad).is_err(), "{bad:?} accepted");
+        }
+        for bad in ["", "/", "no_slash", "/a//b", "/a/", "/a.b"] {
+            assert!(validate_topic(bad).is_err(), "{bad:?} accepted");
+        }
+    }
+}

@@ -1,0 +1,249 @@
+//! The linear algebra a bridge time step needs, behind one small interface: matrix-vector
+//! products with M and C, and solves with the effective matrix factorized once.
+//! Dense (nalgebra Cholesky), banded/sparse (nalgebra-sparse CSC Cholesky, which keeps a
+//! banded matrix banded in natural order) or diagonal (modal). Nothing here is hand-written
+//! factorization code.
+
+use nalgebra::{DMatrix, DVector};
+use nalgebra_sparse::{factorization::CscCholesky, CooMatrix, CscMatrix};
+
+use crate::error::{Error, Result};
+
+/// How a model's matrices are stored and solved.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Storage {
+    /// Dense matrices, dense Cholesky factorized once.
+    #[default]
+    Dense,
+    /// Compressed sparse columns; a banded matrix factorizes in O(n) and solves in O(n).
+    Sparse,
+}
+
+/// A matrix stored the way its structure deserves.
+#[derive(Debug, Clone)]
+pub enum Operator {
+    Dense(DMatrix<f64>),
+    Sparse(CscMatrix<f64>),
+    Diagonal(DVector<f64>),
+}
+
+impl Operator {
+    /// Picks the storage: diagonal when the matrix is diagonal, else as asked.
+    pub fn new(matrix: &DMatrix<f64>, storage: Storage) -> Self {
+        if is_diagonal(matrix) {
+            return Operator::Diagonal(matrix.diagonal());
+        }
+        match storage {
+            Storage::Dense => Operator::Dense(matrix.clone()),
+            Storage::Sparse => Operator::Sparse(to_csc(matrix)),
+        }
+    }
+
+    /// `y += alpha * A x`, without allocation.
+    pub fn mul_add(&self, alpha: f64, x: &DVector<f64>, y: &mut DVector<f64>) {
+        match self {
+            Operator::Dense(a) => y.gemv(alpha, a, x, 1.0),
+            Operator::Sparse(a) => {
+                use nalgebra_sparse::ops::{serial::spmm_csc_dense, Op};
+                spmm_csc_dense(1.0, y, alpha, Op::NoOp(a), Op::NoOp(x));
+            }
+            Operator::Diagonal(d) => y.zip_zip_apply(d, x, |yi, di, xi| *yi += alpha * di * xi),
+        }
+    }
+}
+
+/// A factorized symmetric positive definite matrix.
+pub enum Factor {
+    Dense(nalgebra::linalg::Cholesky<f64, nalgebra::Dyn>),
+    Sparse(CscCholesky<f64>),
+    Diagonal(DVector<f64>),
+}
+
+impl Factor {
+    /// Factorizes `matrix` once, in the storage its structure deserves.
+    pub fn new(matrix: &DMatrix<f64>, storage: Storage, what: &str) -> Result<Self> {
+        let failed = |reason: &str| Error::Factorization {
+            what: what.to_string(),
+            reason: reason.to_string(),
+        };
+        if is_diagonal(matrix) {
+            let d = matrix.diagonal();
+            if d.iter().any(|&v| !(v > 0.0 && v.is_finite())) {
+                return Err(failed("non-positive diagonal"));
+            }
+            return Ok(Factor::Diagonal(d.map(|v| 1.0 / v)));
+        }
+        match storage {
+            Storage::Dense => matrix
+                .clone()
+                .cholesky()
+                .map(Factor::Dense)
+                .ok_or_else(|| failed("not positive definite")),
+            Storage::Sparse => CscCholesky::factor(&to_csc(matrix))
+                .map(Factor::Sparse)
+                .map_err(|e| failed(&format!("{e:?}"))),
+        }
+    }
+
+    /// Overwrites `b` with `A^-1 b`, without allocation.
+    pub fn solve_in_place(&self, b: &mut DVector<f64>) {
+        match self {
+            Factor::Dense(c) => c.solve_mut(b),
+            Factor::Sparse(c) => c.solve_mut(b),
+            Factor::Diagonal(inv) => b.component_mul_assign(inv),
+        }
+    }
+}
+
+fn is_diagonal(m: &DMatrix<f64>) -> bool {
+    m.is_square()
+        && m.column_iter()
+            .enumerate()
+            .all(|(j, col)| col.iter().enumerate().all(|(i, &v)| i == j || v == 0.0))
+}
+
+/// Dense to CSC, dropping exact zeros.
+pub fn to_csc(m: &DMatrix<f64>) -> CscMatrix<f64> {
+    let mut coo = CooMatrix::new(m.nrows(), m.ncols());
+    for j in 0..m.ncols() {
+        for i in 0..m.nrows() {
+            let v = m[(i, j)];
+            if v != 0.0 {
+                coo.push(i, j, v);
+            }
+        }
+    }
+    CscMatrix::from(&coo)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn spd(n: usize) -> DMatrix<f64> {
+        // Tridiagonal SPD (a 1-D Laplacian plus identity): banded, like FE matrices.
+        DMatrix::from_fn(n, n, |i, j| match i.abs_diff(j) {
+            0 => 3.0,
+            1 => -1.0,
+            _ => 0.0,
+        })
+    }
+
+    #[test]
+    fn dense_sparse_and_diagonal_solves_agree() {
+        let a = spd(12);
+        let b = DVector::from_fn(12, |i, _| (i as f64).sin());
+        let exact = a.clone().lu().solve(&b).unwrap();
+        for storage in [Storage::Dense, Storage::Sparse] {
+            let f = Factor::new(&a, storage, "test").unwrap();
+            let mut x = b.clone();
+            f.solve_in_place(&mut x);
+            assert!((&x - &exact).norm() < 1e-12);
+            let mut y = DVector::zeros(12);
+            Operator::new(&a, storage).mul_add(2.0, &x, &mut y);
+            assert!((&y - &b * 2.0).norm() < 1e-12);
+        }
+        let d = DMatrix::from_diagonal(&DVector::from_element(3, 4.0));
+        let f = Factor::new(&d, Storage::Dense, "diag").unwrap();
+        let mut x = DVector::from_element(3, 8.0);
+        f.solve_in_place(&mut x);
+        assert_eq!(x, DVector::from_element(3, 2.0));
+    }
+
+    #[test]
+    fn indefinite_matrix_is_reported() {
+        let mut a = spd(4);
+        a[(2, 2)] = -5.0;
+        for storage in [Storage::Dense, Storage::Sparse] {
+            assert!(Factor::new(&a, storage, "K_eff").is_err());
+        }
+    }
+}
+
+/// Dense LU with partial pivoting for the small, nonsymmetric contact systems, on
+/// preallocated storage (faer's in-place LU with a caller-owned scratch stack): solving a
+/// system of the size seen before does not allocate.
+pub struct SmallLu {
+    matrix: faer::Mat<f64>,
+    rhs: faer::Mat<f64>,
+    perm: Vec<usize>,
+    perm_inv: Vec<usize>,
+    scratch: faer::dyn_stack::MemBuffer,
+    capacity: usize,
+}
+
+impl SmallLu {
+    /// Storage for systems up to `capacity` unknowns (it grows if a larger one comes).
+    pub fn with_capacity(capacity: usize) -> Self {
+        use faer::linalg::lu::partial_pivoting::{factor, solve};
+        let n = capacity.max(1);
+        let req =
+            factor::lu_in_place_scratch::<usize, f64>(n, n, faer::Par::Seq, Default::default()).or(
+                solve::solve_in_place_scratch::<usize, f64>(n, 1, faer::Par::Seq),
+            );
+        SmallLu {
+            matrix: faer::Mat::zeros(n, n),
+            rhs: faer::Mat::zeros(n, 1),
+            perm: vec![0; n],
+            perm_inv: vec![0; n],
+            scratch: faer::dyn_stack::MemBuffer::new(req),
+            capacity: n,
+        }
+    }
+
+    /// Solves `A x = b` for the leading `n x n` block given by `a(i, j)`; `b` is overwritten by x.
+    pub fn solve(&mut self, n: usize, a: impl Fn(usize, usize) -> f64, b: &mut [f64]) {
+        use faer::linalg::lu::partial_pivoting::{factor, solve};
+        use faer::reborrow::{Reborrow, ReborrowMut};
+        if n == 0 {
+            return;
+        }
+        if n > self.capacity {
+            *self = SmallLu::with_capacity(n.next_power_of_two());
+        }
+        let mut m = self.matrix.as_mut().submatrix_mut(0, 0, n, n);
+        for j in 0..n {
+            for i in 0..n {
+                m[(i, j)] = a(i, j);
+            }
+        }
+        let mut rhs = self.rhs.as_mut().submatrix_mut(0, 0, n, 1);
+        for (i, v) in b.iter().enumerate() {
+            rhs[(i, 0)] = *v;
+        }
+        let stack = faer::dyn_stack::MemStack::new(&mut self.scratch);
+        let (_, perm) = factor::lu_in_place(
+            m.rb_mut(),
+            &mut self.perm[..n],
+            &mut self.perm_inv[..n],
+            faer::Par::Seq,
+            stack,
+            Default::default(),
+        );
+        let stack = faer::dyn_stack::MemStack::new(&mut self.scratch);
+        solve::solve_in_place(m.rb(), m.rb(), perm, rhs.rb_mut(), faer::Par::Seq, stack);
+        for (i, v) in b.iter_mut().enumerate() {
+            *v = rhs[(i, 0)];
+        }
+    }
+}
+
+#[cfg(test)]
+mod small_lu_tests {
+    use super::SmallLu;
+
+    #[test]
+    fn solves_a_nonsymmetric_system_and_grows() {
+        let a = [[4.0, 1.0, 0.5], [2.0, 5.0, 1.0], [0.0, 3.0, 6.0]];
+        let x = [1.0, -2.0, 0.5];
+        let mut b: Vec<f64> = (0..3)
+            .map(|i| (0..3).map(|j| a[i][j] * x[j]).sum())
+            .collect();
+        let mut lu = SmallLu::with_capacity(2);
+        lu.solve(3, |i, j| a[i][j], &mut b);
+        for i in 0..3 {
+            assert!((b[i] - x[i]).abs() < 1e-13);
+        }
+    }
+}

@@ -1,0 +1,10 @@
+//! Time integration: Newmark-beta, the linear algebra behind it, and the coupled
+//! vehicle-bridge step.
+
+mod coupled;
+mod linear;
+mod newmark;
+
+pub use coupled::{ContactLaw, CoupledSolver, CoupledVehicle, LevelRoad, RoadSurface};
+pub use linear::{to_csc, Factor, Operator, SmallLu, Storage};
+pub use newmark::{Newmark, NewmarkCoefficients, NewmarkParams, SolveMode, State};

@@ -1,0 +1,115 @@
+//! The verification ladder: every model checked against closed forms and independent
+//! solutions. `bridgetwin verify` prints these rows; `tests/verification.rs` asserts them.
+//!
+//! Each check explains its tolerance where it is computed: the tolerance is the size of
+//! the error the discretization or the time step is expected to leave, not a fudge.
+
+mod beam_checks;
+mod harness;
+
+use serde::Serialize;
+
+pub use beam_checks::{
+    daf_table, frequencies, manufactured_solution, moving_force, newmark_oscillator,
+    static_deflection,
+};
+pub use harness::{manufactured_history, moving_force_history, ManufacturedCase, MovingForceCase};
+
+/// One row of the ladder.
+#[derive(Debug, Clone, Serialize)]
+pub struct CheckRow {
+    /// Group ("frequencies", "moving_force", ...).
+    pub group: String,
+    /// What is checked.
+    pub check: String,
+    /// What it is compared with.
+    pub reference: String,
+    pub reference_value: f64,
+    pub value: f64,
+    /// The error measure (relative unless the check says otherwise).
+    pub error: f64,
+    pub tolerance: f64,
+    pub pass: bool,
+}
+
+impl CheckRow {
+    /// A row whose error is `|value - reference| / |reference|`.
+    pub fn relative(
+        group: &str,
+        check: String,
+        reference: &str,
+        reference_value: f64,
+        value: f64,
+        tolerance: f64,
+    ) -> Self {
+        let error = ((value - reference_value) / reference_value).abs();
+        Self::with_error(
+            group,
+            check,
+            reference,
+            reference_value,
+            value,
+            error,
+            tolerance,
+        )
+    }
+
+    /// A row with an error computed by the caller.
+    pub fn with_error(
+        group: &str,
+        check: String,
+        reference: &str,
+        reference_value: f64,
+        value: f64,
+        error: f64,
+        tolerance: f64,
+    ) -> Self {
+        CheckRow {
+            group: group.to_string(),
+            check,
+            reference: reference.to_string(),
+            reference_value,
+            value,
+            error,
+            tolerance,
+            // NaN fails.
+            pass: error <= tolerance,
+        }
+    }
+}
+
+/// A named group of checks.
+pub struct CheckGroup {
+    pub name: &'static str,
+    pub run: fn() -> crate::Result<Vec<CheckRow>>,
+}
+
+/// Every group of the ladder, in the order they are printed.
+pub fn ladder() -> Vec<CheckGroup> {
+    vec![
+        CheckGroup {
+            name: "frequencies",
+            run: frequencies,
+        },
+        CheckGroup {
+            name: "static",
+            run: static_deflection,
+        },
+        CheckGroup {
+            name: "newmark",
+            run: newmark_oscillator,
+        },
+        CheckGroup {
+            name: "moving_force",
+            run: moving_force,
+        },
+        CheckGroup {
+            name: "daf",
+            run: daf_table,
+        },
+        CheckGroup {
+            name: "manufactured",
+            run: manufactured_solution,
+        },
+    ]
+}

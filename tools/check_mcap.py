@@ -1,0 +1,200 @@
+#!/usr/bin/env python3
+"""Validate bridgetwin MCAP files with the official Python packages, independently of the
+Rust writer.
+
+    python3 tools/check_mcap.py run.mcap [more.mcap ...] [--no-require-metadata]
+
+Checks, per file:
+- every record parses, with CRCs (a linear pass with StreamReader, chunks decompressed);
+- every message decodes with the schema embedded in the file (make_reader + DecoderFactory);
+- the summary statistics (message count per channel, start and end time, schema, channel,
+  metadata and attachment counts) equal what was read;
+- log_time is never 0, never decreases through the file, equals publish_time and the
+  message's ``timestamp`` field;
+- sequence counts 1, 2, 3 ... on every channel;
+- metadata records ``bridgetwin``, ``scenario`` and ``bridge_model`` exist (switchable).
+
+Prints one ``OK`` line per valid file; otherwise ``FAIL`` lines on stderr, exit status 1.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from collections import Counter
+from datetime import datetime, timezone
+
+from mcap.reader import make_reader
+from mcap.records import Attachment, Chunk, DataEnd, Footer, Message, Metadata
+from mcap.stream_reader import StreamReader
+from mcap_protobuf.decoder import DecoderFactory
+
+REQUIRED_METADATA = ("bridgetwin", "scenario", "bridge_model")
+MAX_PROBLEMS = 20  # per file; the first ones say enough
+
+
+class Problems:
+    """Collects failures. A check that fails on many messages is reported once, with the
+    first offending values and the number of occurrences."""
+
+    def __init__(self) -> None:
+        self.first: dict[str, str] = {}  # key -> first message
+        self.count: Counter = Counter()
+
+    def add(self, text: str, key: str | None = None) -> None:
+        key = key or text
+        self.count[key] += 1
+        if key not in self.first and len(self.first) < MAX_PROBLEMS:
+            self.first[key] = text
+
+    def check(self, ok: bool, text: str, key: str | None = None) -> None:
+        if not ok:
+            self.add(text, key)
+
+    def lines(self) -> list[str]:
+        return [
+            text if self.count[key] == 1 else f"{text} (and {self.count[key] - 1} more like it)"
+            for key, text in self.first.items()
+        ]
+
+
+def scan_records(path: str, problems: Problems) -> Counter:
+    """Linear pass over every record, CRCs checked. Returns counts by record kind."""
+    counts: Counter = Counter()
+    metadata_names = []
+    with open(path, "rb") as f:
+        for record in StreamReader(f, validate_crcs=True).records:
+            counts[type(record).__name__] += 1
+            if isinstance(record, Metadata):
+                metadata_names.append(record.name)
+    problems.check(counts[DataEnd.__name__] == 1, "no DataEnd record (file not finished?)")
+    problems.check(counts[Footer.__name__] == 1, "no Footer record (file not finished?)")
+    problems.check(counts[Chunk.__name__] == 0, "chunk left undecoded by the stream reader")
+    counts.update(f"metadata:{name}" for name in metadata_names)
+    return counts
+
+
+def check_messages(path: str, problems: Problems) -> tuple[dict, dict]:
+    """Indexed pass with decoding, in file order. Returns (summary info, observed)."""
+    per_channel: Counter = Counter()
+    last_sequence: dict[int, int] = {}
+    first_ns = last_ns = None
+    previous_ns = 0
+    with open(path, "rb") as f:
+        reader = make_reader(f, validate_crcs=True, decoder_factories=[DecoderFactory()])
+        header = reader.get_header()
+        summary = reader.get_summary()
+        if summary is None or summary.statistics is None:
+            problems.add("no summary section or no statistics record")
+            return {}, {}
+        # log_time_order=False: read in file order, so that disorder is seen, not sorted away.
+        for schema, channel, message, decoded in reader.iter_decoded_messages(log_time_order=False):
+            topic, t_ns = channel.topic, message.log_time
+            problems.check(schema is not None and schema.encoding == "protobuf", f"{topic}: schema encoding is not protobuf")
+            problems.check(channel.message_encoding == "protobuf", f"{topic}: message encoding is not protobuf")
+            problems.check(t_ns != 0, f"{topic}: log_time is 0", f"{topic} zero")
+            problems.check(
+                t_ns >= previous_ns,
+                f"{topic}: log_time {t_ns} < previous {previous_ns} (not time-ordered)",
+                f"{topic} order",
+            )
+            problems.check(message.publish_time == t_ns, f"{topic}: publish_time != log_time", f"{topic} publish")
+            expected = last_sequence.get(channel.id, 0) + 1
+            problems.check(
+                message.sequence == expected,
+                f"{topic}: sequence {message.sequence}, expected {expected}",
+                f"{topic} sequence",
+            )
+            last_sequence[channel.id] = message.sequence
+            if "timestamp" not in decoded.DESCRIPTOR.fields_by_name:
+                problems.add(f"{topic}: message {schema.name} has no timestamp field")
+            else:
+                stamp_ns = decoded.timestamp.seconds * 1_000_000_000 + decoded.timestamp.nanos
+                problems.check(
+                    stamp_ns == t_ns,
+                    f"{topic}: timestamp field {stamp_ns} != log_time {t_ns}",
+                    f"{topic} timestamp",
+                )
+            per_channel[channel.id] += 1
+            previous_ns = t_ns
+            first_ns = t_ns if first_ns is None else min(first_ns, t_ns)
+            last_ns = t_ns if last_ns is None else max(last_ns, t_ns)
+        attachments = sum(1 for _ in reader.iter_attachments())
+        metadata = [m.name for m in reader.iter_metadata()]
+    observed = {
+        "per_channel": per_channel,
+        "first_ns": first_ns,
+        "last_ns": last_ns,
+        "attachments": attachments,
+        "metadata": metadata,
+    }
+    return {"header": header, "summary": summary}, observed
+
+
+def check_file(path: str, require_metadata: bool) -> tuple[Problems, str]:
+    problems = Problems()
+    try:
+        records = scan_records(path, problems)
+        info, seen = check_messages(path, problems)
+    except Exception as error:  # any reader or decoder error is a failed check
+        detail = str(error) or "unexpected end of data (truncated or unfinished file?)"
+        problems.add(f"{type(error).__name__}: {detail}")
+        return problems, ""
+    if not info:
+        return problems, ""
+    summary, stats = info["summary"], info["summary"].statistics
+    total = sum(seen["per_channel"].values())
+    problems.check(stats.message_count == total, f"statistics: {stats.message_count} messages, read {total}")
+    problems.check(records[Message.__name__] == total, f"linear pass read {records[Message.__name__]} messages, indexed {total}")
+    for channel_id, channel in summary.channels.items():
+        listed = stats.channel_message_counts.get(channel_id, 0)
+        read = seen["per_channel"].get(channel_id, 0)
+        problems.check(listed == read, f"{channel.topic}: statistics say {listed} messages, read {read}")
+    problems.check(set(seen["per_channel"]) <= set(summary.channels), "messages on channels missing from the summary")
+    if total:
+        problems.check(stats.message_start_time == seen["first_ns"], "statistics: message_start_time != first log_time")
+        problems.check(stats.message_end_time == seen["last_ns"], "statistics: message_end_time != last log_time")
+    problems.check(stats.schema_count == len(summary.schemas), "statistics: schema_count != schemas in summary")
+    problems.check(stats.channel_count == len(summary.channels), "statistics: channel_count != channels in summary")
+    problems.check(stats.metadata_count == records[Metadata.__name__] == len(seen["metadata"]), "statistics: metadata_count != metadata records")
+    problems.check(stats.attachment_count == records[Attachment.__name__] == seen["attachments"], "statistics: attachment_count != attachments")
+    for schema in summary.schemas.values():
+        problems.check(not schema.name.startswith("."), f"schema name {schema.name!r} has a leading dot")
+    if require_metadata:
+        for name in REQUIRED_METADATA:
+            problems.check(name in seen["metadata"], f"metadata record {name!r} missing")
+
+    start = datetime.fromtimestamp(stats.message_start_time / 1e9, tz=timezone.utc)
+    duration_s = (stats.message_end_time - stats.message_start_time) * 1e-9
+    line = (
+        f"{total} messages on {len(summary.channels)} channels, {len(summary.schemas)} schemas, "
+        f"{stats.metadata_count} metadata, {stats.attachment_count} attachments, "
+        f"{duration_s:.3f} s from {start.isoformat()} ({info['header'].library})"
+    )
+    return problems, line
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("files", nargs="+", metavar="FILE")
+    parser.add_argument(
+        "--require-metadata",
+        action=argparse.BooleanOptionalAction,
+        default=True,
+        help="require the bridgetwin, scenario and bridge_model metadata records (default: on)",
+    )
+    args = parser.parse_args()
+    failed = 0
+    for path in args.files:
+        problems, line = check_file(path, args.require_metadata)
+        if problems.first:
+            failed += 1
+            for item in problems.lines():
+                print(f"FAIL {path}: {item}", file=sys.stderr)
+        else:
+            print(f"OK {path}: {line}")
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,239 @@
+#!/usr/bin/env python3
+"""Read a bridgetwin run (an MCAP file) into numpy arrays.
+
+    from read_run import load_topic, load_run
+    accel = load_topic("run.mcap", "/sensors/accel/A3")
+    plt.plot(accel["time_s"], accel["acceleration_m_s2"])
+
+    sensors = load_run("run.mcap")          # every /sensors/... topic, one pass
+    python3 tools/read_run.py run.mcap      # summary of a run
+    python3 tools/read_run.py run.mcap /truth/axle_loads   # arrays of one topic
+
+Messages are decoded with the schema stored in the file itself (the official `mcap` and
+`mcap-protobuf-support` packages), so no generated code is needed and new fields simply
+appear as new arrays. What a topic gives, as a dict of numpy arrays:
+
+- ``log_time_ns``: Unix-epoch ns (int64); ``time_s``: seconds since the first message of
+  the file. ``log_time`` equals each message's ``timestamp`` field.
+- every singular field by its name (units are part of the names); a Timestamp field
+  such as ``entry_time`` becomes ``entry_time_ns``; a map field becomes ``name.key``.
+- repeated numbers: a 2-D array (message x index) when all messages have the same length
+  (``/truth/bridge`` ``deflection_m``), else a 1-D object array of arrays.
+- repeated messages (the ``axles`` of ``/truth/axle_loads``): one row per element under
+  ``axles.<field>``, with its own ``axles.time_s`` and ``axles.log_time_ns``.
+- block messages (a ``sample_period_ns`` field, e.g. SampleBlock) are expanded to one row
+  per sample, named like the per-sample messages (``acceleration_m_s2`` ...): the block
+  and the per-sample layout of a sensor load to the same arrays.
+"""
+
+from __future__ import annotations
+
+import sys
+from collections import defaultdict
+from typing import Any, Iterable
+
+import numpy as np
+from google.protobuf.descriptor import FieldDescriptor
+from mcap.reader import make_reader
+from mcap_protobuf.decoder import DecoderFactory
+
+# SampleBlock.quantity -> name of the same column in the per-sample messages.
+BLOCK_VALUE_NAMES = {
+    "acceleration": "acceleration_m_s2",
+    "strain": "strain_microstrain",
+    "displacement": "displacement_m",
+}
+SENSOR_PREFIXES = ("/sensors/",)
+
+
+def load_topic(path: str, topic: str) -> dict[str, np.ndarray]:
+    """All messages of one topic as a dict of numpy arrays (see the module doc)."""
+    return load_topics(path, [topic])[topic]
+
+
+def load_run(path: str, prefixes: Iterable[str] = SENSOR_PREFIXES) -> dict[str, dict[str, np.ndarray]]:
+    """Every topic starting with one of ``prefixes`` (default: DAQ sensors), in one pass."""
+    prefixes = tuple(prefixes)
+    return load_topics(path, [t for t in list_topics(path) if t.startswith(prefixes)])
+
+
+def list_topics(path: str) -> list[str]:
+    """Topic names of the file, sorted."""
+    with open(path, "rb") as f:
+        summary = make_reader(f).get_summary()
+    if summary is None:
+        raise ValueError(f"{path}: no summary section (an unfinished .partial file?)")
+    return sorted({c.topic for c in summary.channels.values()})
+
+
+def load_topics(path: str, topics: list[str]) -> dict[str, dict[str, np.ndarray]]:
+    """Several topics in one pass over the file: {topic: arrays}."""
+    rows: dict[str, list[dict]] = {t: [] for t in topics}
+    # Rows of repeated message fields: {topic: {field name: rows}}.
+    nested: dict[str, dict[str, list[dict]]] = {t: defaultdict(list) for t in topics}
+    with open(path, "rb") as f:
+        reader = make_reader(f, decoder_factories=[DecoderFactory()])
+        summary = reader.get_summary()
+        start_ns = summary.statistics.message_start_time if summary and summary.statistics else None
+        if summary is not None:
+            known = {c.topic for c in summary.channels.values()}
+            missing = sorted(set(topics) - known)
+            if missing:
+                raise ValueError(f"{path}: no topic {missing}; topics: {sorted(known)}")
+        for _, channel, message, decoded in reader.iter_decoded_messages(topics=topics):
+            _add_message(rows[channel.topic], nested[channel.topic], decoded, message.log_time)
+    first = [r[0]["log_time_ns"] for r in rows.values() if r]
+    if start_ns is None:
+        start_ns = min(first, default=0)
+    return {t: _to_arrays(rows[t], nested[t], start_ns) for t in topics}
+
+
+def _add_message(rows: list[dict], nested: dict[str, list[dict]], msg: Any, log_time_ns: int) -> None:
+    fields = msg.DESCRIPTOR.fields_by_name
+    if "sample_period_ns" in fields:
+        _add_block(rows, msg, log_time_ns)
+        return
+    row: dict[str, Any] = {"log_time_ns": log_time_ns}
+    for field in msg.DESCRIPTOR.fields:
+        if field.name == "timestamp":
+            continue  # equal to log_time by contract
+        value = getattr(msg, field.name)
+        if _is_map(field):
+            row.update({f"{field.name}.{k}": v for k, v in value.items()})
+        elif field.is_repeated and field.cpp_type == FieldDescriptor.CPPTYPE_MESSAGE:
+            for element in value:
+                element_row = {"log_time_ns": log_time_ns}
+                _add_singular_fields(element_row, element, prefix="")
+                nested[field.name].append(element_row)
+        elif field.is_repeated:
+            row[field.name] = np.asarray(list(value))
+        else:
+            _add_singular(row, field, value, prefix="")
+    rows.append(row)
+
+
+def _add_singular_fields(row: dict, msg: Any, prefix: str) -> None:
+    for field in msg.DESCRIPTOR.fields:
+        value = getattr(msg, field.name)
+        if field.is_repeated:
+            row[prefix + field.name] = np.asarray(list(value)) if not _is_map(field) else dict(value)
+        else:
+            _add_singular(row, field, value, prefix)
+
+
+def _add_singular(row: dict, field: FieldDescriptor, value: Any, prefix: str) -> None:
+    if field.cpp_type != FieldDescriptor.CPPTYPE_MESSAGE:
+        row[prefix + field.name] = value
+    elif field.message_type.full_name == "google.protobuf.Timestamp":
+        row[f"{prefix}{field.name}_ns"] = value.seconds * 1_000_000_000 + value.nanos
+    else:
+        _add_singular_fields(row, value, prefix=f"{prefix}{field.name}.")
+
+
+def _add_block(rows: list[dict], msg: Any, log_time_ns: int) -> None:
+    """One row per sample; sample i is at log_time + i * sample_period_ns."""
+    period_ns = msg.sample_period_ns
+    columns: dict[str, list] = {}
+    for field in msg.DESCRIPTOR.fields:
+        if field.is_repeated and field.cpp_type != FieldDescriptor.CPPTYPE_MESSAGE:
+            name = field.name
+            if name == "values":
+                name = BLOCK_VALUE_NAMES.get(msg.quantity, msg.quantity or "values")
+            columns[name] = list(getattr(msg, field.name))
+    count = max((len(v) for v in columns.values()), default=0)
+    for i in range(count):
+        row = {"log_time_ns": log_time_ns + i * period_ns}
+        row.update({k: v[i] for k, v in columns.items() if i < len(v)})
+        rows.append(row)
+
+
+def _is_map(field: FieldDescriptor) -> bool:
+    return (
+        field.cpp_type == FieldDescriptor.CPPTYPE_MESSAGE
+        and field.message_type.GetOptions().map_entry
+    )
+
+
+def _to_arrays(rows: list[dict], nested: dict[str, list[dict]], start_ns: int) -> dict[str, np.ndarray]:
+    if not rows:
+        return {"log_time_ns": np.zeros(0, dtype=np.int64), "time_s": np.zeros(0)}
+    out = _columns(rows)
+    for field_name, element_rows in nested.items():
+        out.update(_columns(element_rows, prefix=field_name))
+    for key in [k for k in out if k.endswith("log_time_ns")]:
+        out[key[: -len("log_time_ns")] + "time_s"] = (out[key] - start_ns) * 1e-9
+    return out
+
+
+def _columns(rows: list[dict], prefix: str = "") -> dict[str, np.ndarray]:
+    """Rows (dicts) -> columns; a key missing from some rows is filled with NaN."""
+    keys: dict[str, None] = {}
+    for row in rows:
+        keys.update(dict.fromkeys(row))
+    out = {}
+    for key in keys:
+        values = [row.get(key, np.nan) for row in rows]
+        name = f"{prefix}.{key}" if prefix else key
+        if values and isinstance(values[0], np.ndarray):
+            lengths = {v.shape for v in values}
+            out[name] = np.vstack(values) if len(lengths) == 1 else _object_array(values)
+        elif values and isinstance(values[0], dict):
+            out[name] = _object_array(values)
+        else:
+            out[name] = np.asarray(values)
+    time_key = f"{prefix}.log_time_ns" if prefix else "log_time_ns"
+    if time_key in out:
+        out[time_key] = out[time_key].astype(np.int64)
+    return out
+
+
+def _object_array(values: list) -> np.ndarray:
+    array = np.empty(len(values), dtype=object)
+    array[:] = values
+    return array
+
+
+def _describe(name: str, array: np.ndarray) -> str:
+    if array.dtype.kind in "fiub" and array.size:
+        return f"  {name:32s} {str(array.shape):14s} min {array.min():.6g}  max {array.max():.6g}"
+    return f"  {name:32s} {str(array.shape):14s} {array.dtype}"
+
+
+def print_summary(path: str) -> None:
+    """Prints the header, metadata, attachments and per-topic counts of a run."""
+    with open(path, "rb") as f:
+        reader = make_reader(f)
+        summary = reader.get_summary()
+        print(f"{path}: written by {reader.get_header().library}")
+        for record in reader.iter_metadata():
+            print(f"metadata {record.name}: {', '.join(sorted(record.metadata))}")
+        for attachment in reader.iter_attachments():
+            print(f"attachment {attachment.name} ({attachment.media_type}, {len(attachment.data)} B)")
+    if summary is None or summary.statistics is None:
+        print("no summary section")
+        return
+    stats = summary.statistics
+    duration_s = (stats.message_end_time - stats.message_start_time) * 1e-9
+    print(f"{stats.message_count} messages, {duration_s:.3f} s")
+    for channel_id, channel in sorted(summary.channels.items(), key=lambda c: c[1].topic):
+        count = stats.channel_message_counts.get(channel_id, 0)
+        schema = summary.schemas[channel.schema_id].name
+        print(f"  {channel.topic:36s} {schema:32s} {count:8d}")
+
+
+def main(argv: list[str]) -> int:
+    if len(argv) not in (2, 3):
+        print(__doc__.split("\n\n")[1], file=sys.stderr)
+        return 2
+    if len(argv) == 2:
+        print_summary(argv[1])
+        return 0
+    arrays = load_topic(argv[1], argv[2])
+    print(f"{argv[2]}: {len(arrays.get('time_s', []))} rows")
+    for name, array in arrays.items():
+        print(_describe(name, array))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))
