@@ -1,6 +1,7 @@
 //! Command-line interface: argument parsing, dispatch, printing, exit codes. The only
 //! module that prints.
 
+mod simulate_cmd;
 mod verify_cmd;
 
 use std::path::PathBuf;
@@ -18,10 +19,26 @@ pub struct Cli {
 
 #[derive(Debug, Subcommand)]
 pub enum Command {
+    /// Simulate a scenario and write the run to MCAP.
+    Simulate(simulate_cmd::SimulateArgs),
+    /// Print or check scenarios.
+    #[command(subcommand)]
+    Scenario(ScenarioCommand),
     /// Run the analytical verification ladder (exit code 1 if any check fails).
     Verify(VerifyArgs),
     /// Reproduce the paper's studies and go past them (CSV, SVG, summary.md).
     Study(StudyArgs),
+}
+
+#[derive(Debug, Subcommand)]
+pub enum ScenarioCommand {
+    /// Print the embedded default scenario (a starting point for your own).
+    Show,
+    /// Validate a scenario file.
+    Check {
+        /// Scenario TOML.
+        file: PathBuf,
+    },
 }
 
 #[derive(Debug, clap::Args)]
@@ -65,6 +82,14 @@ pub fn main() -> ExitCode {
         }
     };
     let outcome = match cli.command {
+        Command::Simulate(args) => simulate_cmd::run(&args).map(|()| true),
+        Command::Scenario(ScenarioCommand::Show) => {
+            simulate_cmd::show();
+            Ok(true)
+        }
+        Command::Scenario(ScenarioCommand::Check { file }) => {
+            simulate_cmd::check(&file).map(|()| true)
+        }
         Command::Verify(args) => verify_cmd::run(&args),
         Command::Study(args) => {
             let mut progress = |line: &str| eprintln!("  {line}");

@@ -10,12 +10,14 @@
 //! MCAP `log_time` in Unix-epoch ns; vertical displacement, velocity and acceleration are
 //! positive downward; positions are measured along the bridge from the left support.
 
+mod recorder;
 mod schema;
 mod topics;
 mod writer;
 
 use std::collections::BTreeMap;
 
+pub use recorder::McapRecorder;
 pub use schema::{self_contained_descriptor_set, ALL_DESCRIPTORS};
 pub use topics::{validate_segment, validate_topic, Topics};
 pub use writer::{ChannelId, McapSink, SinkOptions};

@@ -1,0 +1,243 @@
+//! `bridgetwin simulate` and `bridgetwin scenario`.
+
+use std::collections::BTreeMap;
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{Context, Result};
+
+use crate::scenario::{Scenario, DEFAULT_SCENARIO_TOML};
+use crate::sink::{McapRecorder, McapSink, SinkOptions};
+
+/// Arguments of `simulate`.
+#[derive(Debug, clap::Args)]
+pub struct SimulateArgs {
+    /// Scenario TOML (default: the embedded default scenario).
+    pub scenario: Option<PathBuf>,
+    /// Output MCAP file (written as FILE.partial, renamed on success).
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Override the scenario's seed.
+    #[arg(long)]
+    pub seed: Option<u64>,
+    /// Override the duration (s).
+    #[arg(long)]
+    pub duration_s: Option<f64>,
+    /// Replace an existing output file.
+    #[arg(long)]
+    pub force: bool,
+    /// Print the time split: setup, physics + sensors, writing.
+    #[arg(long)]
+    pub timings: bool,
+}
+
+/// Reads a scenario file (or the default) and applies the command-line overrides.
+pub fn load_scenario(path: Option<&Path>) -> Result<(Scenario, String)> {
+    match path {
+        None => Ok((
+            Scenario::default_scenario(),
+            DEFAULT_SCENARIO_TOML.to_string(),
+        )),
+        Some(p) => {
+            let text = std::fs::read_to_string(p)
+                .with_context(|| format!("reading scenario {}", p.display()))?;
+            let scenario = Scenario::from_toml(&text, &p.display().to_string())?;
+            Ok((scenario, text))
+        }
+    }
+}
+
+/// Runs `simulate`.
+pub fn run(args: &SimulateArgs) -> Result<()> {
+    let started = Instant::now();
+    let (mut scenario, original_toml) = load_scenario(args.scenario.as_deref())?;
+    if let Some(seed) = args.seed {
+        scenario.seed = seed;
+    }
+    if let Some(d) = args.duration_s {
+        scenario.duration_s = Some(d);
+    }
+    let resolved = scenario.resolve()?;
+    let prepared = crate::sim::prepare(&resolved)?;
+    let mut sink = McapSink::create(
+        &args.out,
+        SinkOptions {
+            force: args.force,
+            ..Default::default()
+        },
+    )?;
+    let partial = partial_path(&args.out);
+    let outcome = write_run(&mut sink, &resolved, &prepared, &original_toml);
+    match outcome {
+        Ok((summary, messages, physics_s)) => {
+            let path = sink.finish()?;
+            let bytes = std::fs::metadata(&path).map(|m| m.len()).unwrap_or(0);
+            let wall_s = started.elapsed().as_secs_f64();
+            eprintln!(
+                "wrote {} ({:.1} MiB, {} messages, {:.1} B/message): {:.2} s simulated in {:.2} s ({:.0}x real time)",
+                path.display(),
+                bytes as f64 / 1048576.0,
+                messages,
+                bytes as f64 / messages.max(1) as f64,
+                summary.duration_s,
+                wall_s,
+                summary.duration_s / wall_s
+            );
+            eprintln!(
+                "f1 = {:.3} Hz; {}",
+                summary
+                    .natural_frequencies_hz
+                    .first()
+                    .copied()
+                    .unwrap_or(f64::NAN),
+                summary.road_description
+            );
+            for (id, axle, dlc) in &summary.dlc {
+                eprintln!("vehicle {id} axle {axle}: DLC (max/static on the bridge) = {dlc:.3}");
+            }
+            if args.timings {
+                eprintln!("timings: total {wall_s:.3} s, time loop (physics + sensors + writing) {physics_s:.3} s");
+            }
+            Ok(())
+        }
+        Err(e) => {
+            drop(sink);
+            let _ = std::fs::remove_file(&partial);
+            Err(e)
+        }
+    }
+}
+
+fn partial_path(out: &Path) -> PathBuf {
+    let mut name = out.as_os_str().to_owned();
+    name.push(".partial");
+    PathBuf::from(name)
+}
+
+type Written = (crate::sim::RunSummary, u64, f64);
+
+fn write_run(
+    sink: &mut McapSink,
+    resolved: &crate::scenario::Resolved,
+    prepared: &crate::sim::Prepared,
+    original_toml: &str,
+) -> Result<Written> {
+    let s = &resolved.scenario;
+    let start = resolved.start_time_ns;
+    sink.write_metadata(
+        "bridgetwin",
+        BTreeMap::from([
+            ("version".to_string(), env!("CARGO_PKG_VERSION").to_string()),
+            (
+                "git_revision".to_string(),
+                option_env!("BRIDGETWIN_GIT_REVISION")
+                    .unwrap_or("unknown")
+                    .to_string(),
+            ),
+            ("seed".to_string(), s.seed.to_string()),
+            ("start_time".to_string(), s.start_time.clone()),
+        ]),
+    )?;
+    sink.write_metadata(
+        "scenario",
+        BTreeMap::from([("toml".to_string(), s.to_toml())]),
+    )?;
+    let model = &prepared.model;
+    let freqs: Vec<String> = (1..=model.omega_rad_s.len().min(10))
+        .map(|n| format!("{:.6}", model.frequency_hz(n)))
+        .collect();
+    sink.write_metadata(
+        "bridge_model",
+        BTreeMap::from([
+            ("model".to_string(), s.bridge.model.label()),
+            ("natural_frequencies_hz".to_string(), freqs.join(",")),
+            (
+                "damping_ratio".to_string(),
+                s.bridge.damping_ratio.to_string(),
+            ),
+            (
+                "rayleigh_a0_per_s".to_string(),
+                model.rayleigh.a0_per_s.to_string(),
+            ),
+            ("rayleigh_a1_s".to_string(), model.rayleigh.a1_s.to_string()),
+            (
+                "flexural_rigidity_n_m2".to_string(),
+                s.bridge.flexural_rigidity_n_m2.to_string(),
+            ),
+            (
+                "mass_per_length_kg_m".to_string(),
+                s.bridge.mass_per_length_kg_m.to_string(),
+            ),
+            ("span_m".to_string(), s.bridge.span_m.to_string()),
+            ("road".to_string(), prepared.road.describe().to_string()),
+        ]),
+    )?;
+    sink.attach(
+        "scenario.toml",
+        "application/toml",
+        original_toml.as_bytes(),
+        start,
+    )?;
+    sink.attach(
+        "road_profile.csv",
+        "text/csv",
+        prepared.road.to_csv().as_bytes(),
+        start,
+    )?;
+    let mut recorder = McapRecorder::new(sink, resolved, model.shape_positions_m().to_vec())?;
+    let n = model.omega_rad_s.len().min(10);
+    let freqs: Vec<f64> = (1..=n).map(|k| model.frequency_hz(k)).collect();
+    let zetas: Vec<f64> = model
+        .omega_rad_s
+        .iter()
+        .take(n)
+        .map(|&w| model.rayleigh.ratio_at(w))
+        .collect();
+    recorder.write_modal_state(&freqs, &zetas)?;
+    let bar = progress_bar(resolved.steps);
+    let loop_start = Instant::now();
+    let summary = crate::sim::run(resolved, prepared, &mut recorder, &mut |step, _| {
+        if let Some(b) = &bar {
+            b.set_position(step);
+        }
+    })?;
+    let physics_s = loop_start.elapsed().as_secs_f64();
+    if let Some(b) = bar {
+        b.finish_and_clear();
+    }
+    Ok((summary, recorder.messages, physics_s))
+}
+
+fn progress_bar(steps: u64) -> Option<indicatif::ProgressBar> {
+    if !std::io::stderr().is_terminal() {
+        return None;
+    }
+    let bar = indicatif::ProgressBar::new(steps);
+    if let Ok(style) =
+        indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} steps ({eta} left)")
+    {
+        bar.set_style(style);
+    }
+    Some(bar)
+}
+
+/// `scenario show`: prints the default scenario.
+pub fn show() {
+    print!("{DEFAULT_SCENARIO_TOML}");
+}
+
+/// `scenario check FILE`: validates a scenario.
+pub fn check(path: &Path) -> Result<()> {
+    let (scenario, _) = load_scenario(Some(path))?;
+    let resolved = scenario.resolve()?;
+    eprintln!(
+        "{}: ok ({} vehicles, {} sensors, {:.2} s, {} steps)",
+        path.display(),
+        resolved.vehicles.len(),
+        resolved.sensors.len(),
+        resolved.duration_s(),
+        resolved.steps
+    );
+    Ok(())
+}

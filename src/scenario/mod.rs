@@ -1,0 +1,305 @@
+//! Scenario: TOML -> validated `Scenario`. Every field is checked once, here, and errors
+//! name the field path (`sensors.2.rate_hz = 5000 ...`).
+
+mod validate;
+
+use serde::{Deserialize, Serialize};
+
+use crate::bridge::{BeamProperties, ModelSpec, StiffnessRegion};
+use crate::error::{Error, Result};
+use crate::road::RoadProfileSpec;
+use crate::solver::{ContactLaw, NewmarkParams};
+use crate::vehicle::VehicleModelSpec;
+
+pub use validate::{Resolved, ResolvedSensor, ResolvedVehicle};
+
+/// The embedded default scenario (`bridgetwin scenario show`).
+pub const DEFAULT_SCENARIO_TOML: &str = include_str!("default.toml");
+
+/// A run, as written in a scenario file.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scenario {
+    /// Run seed; every random component derives its own stream from it (default 42).
+    #[serde(default = "default_seed")]
+    pub seed: u64,
+    /// Wall-clock time of t = 0, RFC 3339 (default 2026-01-01T00:00:00Z).
+    #[serde(default = "default_start_time")]
+    pub start_time: String,
+    /// Simulated time (s); default: until the last vehicle has left the bridge + 3 s.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub duration_s: Option<f64>,
+    pub bridge: BridgeSection,
+    #[serde(default)]
+    pub solver: SolverSection,
+    #[serde(default)]
+    pub road: RoadSection,
+    #[serde(default)]
+    pub vehicles: Vec<VehicleEntry>,
+    #[serde(default)]
+    pub sensors: Vec<SensorSpec>,
+    #[serde(default)]
+    pub wim_stations: Vec<WimStationSpec>,
+    #[serde(default)]
+    pub output: OutputSection,
+}
+
+fn default_seed() -> u64 {
+    42
+}
+fn default_start_time() -> String {
+    "2026-01-01T00:00:00Z".into()
+}
+
+/// The bridge.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BridgeSection {
+    pub span_m: f64,
+    pub flexural_rigidity_n_m2: f64,
+    pub mass_per_length_kg_m: f64,
+    /// Rayleigh damping ratio on modes 1 and 2, in [0, 1) (default 0.02).
+    #[serde(default = "default_damping")]
+    pub damping_ratio: f64,
+    /// Discretization (default finite elements, 30 elements).
+    #[serde(default = "default_model")]
+    pub model: ModelSpec,
+    /// EI factors over regions (default none).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub stiffness_regions: Vec<StiffnessRegion>,
+}
+
+fn default_damping() -> f64 {
+    0.02
+}
+fn default_model() -> ModelSpec {
+    ModelSpec::FiniteElement { elements: 30 }
+}
+
+impl BridgeSection {
+    /// The physical beam.
+    pub fn beam(&self) -> BeamProperties {
+        BeamProperties {
+            span_m: self.span_m,
+            flexural_rigidity_n_m2: self.flexural_rigidity_n_m2,
+            mass_per_length_kg_m: self.mass_per_length_kg_m,
+            stiffness_regions: self.stiffness_regions.clone(),
+        }
+    }
+}
+
+/// Time integration.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SolverSection {
+    /// Time step (s), a whole number of nanoseconds (default 0.001).
+    #[serde(default = "default_dt")]
+    pub dt_s: f64,
+    /// Newmark gamma and beta (default average acceleration).
+    #[serde(default)]
+    pub newmark: NewmarkParams,
+    /// Tyre contact law (default `full`, as the paper; `unilateral` allows lift-off).
+    #[serde(default)]
+    pub contact: ContactLaw,
+}
+
+fn default_dt() -> f64 {
+    0.001
+}
+
+impl Default for SolverSection {
+    fn default() -> Self {
+        SolverSection {
+            dt_s: default_dt(),
+            newmark: NewmarkParams::default(),
+            contact: ContactLaw::Full,
+        }
+    }
+}
+
+/// The road: one continuous profile over approach, bridge and exit.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RoadSection {
+    /// Profile (default smooth).
+    #[serde(default)]
+    pub profile: RoadProfileSpec,
+    /// Approach length before the bridge where vehicles start (m, default 100).
+    #[serde(default = "default_approach")]
+    pub approach_m: f64,
+    /// Road after the bridge before vehicles are dropped (m, default 30).
+    #[serde(default = "default_exit")]
+    pub exit_m: f64,
+}
+
+fn default_approach() -> f64 {
+    100.0
+}
+fn default_exit() -> f64 {
+    30.0
+}
+
+impl Default for RoadSection {
+    fn default() -> Self {
+        RoadSection {
+            profile: RoadProfileSpec::default(),
+            approach_m: default_approach(),
+            exit_m: default_exit(),
+        }
+    }
+}
+
+/// One vehicle with its entry time.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct VehicleEntry {
+    /// Vehicle id in the truth streams (default: 1-based index).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub id: Option<u32>,
+    pub model: VehicleModelSpec,
+    /// Speed (m/s, > 0).
+    pub speed_m_s: f64,
+    /// Time at which the front axle is at the start of the approach (s, default 0).
+    #[serde(default)]
+    pub entry_time_s: f64,
+    /// Lane number for the records (default 1).
+    #[serde(default = "default_lane")]
+    pub lane: u32,
+}
+
+fn default_lane() -> u32 {
+    1
+}
+
+/// What a sensor measures.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SensorKind {
+    Accelerometer,
+    Strain,
+    Displacement,
+}
+
+impl SensorKind {
+    /// Default white-noise density in the sensor's unit per sqrt(Hz): ADXL355-class
+    /// 22.5 ug/sqrt(Hz); foil strain gauge ~0.5 ue rms at 1 kHz; 1 um/sqrt(Hz) for
+    /// displacement (SENSORS.md sections 1-2).
+    pub fn default_noise_density(self) -> f64 {
+        match self {
+            SensorKind::Accelerometer => 22.5e-6 * crate::vehicle::GRAVITY_M_S2,
+            SensorKind::Strain => 0.02,
+            SensorKind::Displacement => 1e-6,
+        }
+    }
+
+    /// Unit of the recorded value.
+    pub fn unit(self) -> &'static str {
+        match self {
+            SensorKind::Accelerometer => "m/s^2",
+            SensorKind::Strain => "microstrain",
+            SensorKind::Displacement => "m",
+        }
+    }
+}
+
+/// One bridge sensor.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SensorSpec {
+    /// Topic segment: letters, digits, `_` and `-`; unique.
+    pub id: String,
+    pub kind: SensorKind,
+    /// Position along the span (m, in [0, span]).
+    pub position_m: f64,
+    /// DAQ sample rate (Hz, <= 1/dt; need not divide it).
+    pub rate_hz: f64,
+    /// White-noise density in the unit of the sensor per sqrt(Hz) (default by kind).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub noise_density: Option<f64>,
+    /// Strain gauges: distance of the gauge below the neutral axis (m, default 0.8).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gauge_depth_m: Option<f64>,
+}
+
+/// A weigh-in-motion strip on the road.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WimStationSpec {
+    pub id: String,
+    /// Strip position on the road axis (m; negative = on the approach).
+    pub position_m: f64,
+}
+
+/// How messages are laid out.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Layout {
+    /// One sample per message: every field plottable as a time series.
+    Sample,
+    /// Blocks of `block_samples` samples per message, as DAQ packets.
+    Block,
+}
+
+/// Output options.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutputSection {
+    /// `sample` (default) or `block`.
+    #[serde(default = "default_layout")]
+    pub layout: Layout,
+    /// Samples per block message (default 50).
+    #[serde(default = "default_block")]
+    pub block_samples: usize,
+    /// Rate of `/truth/axle_loads` (Hz, must divide the solver rate; default 200).
+    #[serde(default = "default_axle_rate")]
+    pub axle_load_rate_hz: f64,
+    /// Rate of the deflected shape on `/truth/bridge` (Hz, must divide the solver rate; default 20).
+    #[serde(default = "default_bridge_rate")]
+    pub bridge_state_rate_hz: f64,
+}
+
+fn default_layout() -> Layout {
+    Layout::Sample
+}
+fn default_block() -> usize {
+    50
+}
+fn default_axle_rate() -> f64 {
+    200.0
+}
+fn default_bridge_rate() -> f64 {
+    20.0
+}
+
+impl Default for OutputSection {
+    fn default() -> Self {
+        OutputSection {
+            layout: default_layout(),
+            block_samples: default_block(),
+            axle_load_rate_hz: default_axle_rate(),
+            bridge_state_rate_hz: default_bridge_rate(),
+        }
+    }
+}
+
+impl Scenario {
+    /// Parses TOML; `source` names the file in errors.
+    pub fn from_toml(text: &str, source: &str) -> Result<Scenario> {
+        toml::from_str(text).map_err(|e| Error::File {
+            path: source.to_string(),
+            reason: e.to_string().trim_end().replace('\n', " "),
+        })
+    }
+
+    /// The embedded default.
+    pub fn default_scenario() -> Scenario {
+        // The embedded file is tested to parse; a failure here is a build defect.
+        Scenario::from_toml(DEFAULT_SCENARIO_TOML, "<default scenario>")
+            .expect("embedded default scenario parses")
+    }
+
+    /// The resolved scenario as TOML (stored in the output).
+    pub fn to_toml(&self) -> String {
+        toml::to_string(self).unwrap_or_default()
+    }
+}

@@ -1,0 +1,170 @@
+//! One sensor channel: resampler + truth interpolation + per-sample stages (noise).
+
+use rand_chacha::ChaCha8Rng;
+use serde::{Deserialize, Serialize};
+
+use super::kaiser::PolyphaseKernel;
+use super::noise::{WhiteNoise, WhiteNoiseSource};
+use super::resample::{field, filter, AntiAliasOptions, Rates};
+use super::schedule::{Due, OutputSchedule};
+use super::truth::{hermite, HERMITE_LOOKAHEAD, HERMITE_LOOKBACK};
+use super::SampleStage;
+use crate::error::Result;
+
+/// What a channel records, in the caller's unit (m/s^2, strain, m).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ChannelSpec {
+    /// Output (DAQ) sample rate in Hz, `0 < rate_hz <= 1/dt`.
+    pub rate_hz: f64,
+    /// Anti-alias filter; default [`AntiAliasOptions::default`].
+    #[serde(default)]
+    pub anti_alias: AntiAliasOptions,
+    /// White self-noise; default none.
+    #[serde(default)]
+    pub noise: WhiteNoise,
+}
+
+/// One output sample: the instant (ns since the run start, exact `round(k * 1e9 / rate)`),
+/// the recorded value and the noise-free, unfiltered truth at the same instant.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ChannelSample {
+    pub t_ns: u64,
+    pub measured: f64,
+    pub truth: f64,
+}
+
+/// Resampler + truth interpolator + stages, fed one solver sample at a time, on one ring
+/// buffer and one schedule: `measured` is the anti-alias filtered value (see
+/// [`super::Resampler`]) passed through the stages in order (first the white noise), `truth`
+/// the Hermite interpolant (see [`super::TruthInterpolator`]) at the same `t_ns`. Both are
+/// handed over together, `max(L, 3)` solver steps after the instant at most
+/// ([`SensorChannel::latency_ns`]); with `rate_hz == 1/dt` both are the solver samples
+/// (plus noise for `measured`) without delay.
+#[derive(Debug)]
+pub struct SensorChannel {
+    schedule: OutputSchedule,
+    kernel: Option<PolyphaseKernel>,
+    noise_sigma: f64,
+    stages: Vec<Box<dyn SampleStage>>,
+}
+
+impl SensorChannel {
+    /// A channel from the solver rate `fs_in_hz` (a whole number of ns per step) described
+    /// by `spec`; noise draws from `rng` (give each sensor its own, see
+    /// [`super::child_rng`]; no draws when the density is 0). Errors name
+    /// `<field_prefix>.rate_hz`, `<field_prefix>.anti_alias.*`, `<field_prefix>.noise.*`.
+    pub fn new(
+        fs_in_hz: f64,
+        spec: &ChannelSpec,
+        rng: ChaCha8Rng,
+        field_prefix: &str,
+    ) -> Result<Self> {
+        spec.anti_alias
+            .validate(&field(field_prefix, "anti_alias"))?;
+        let noise_prefix = field(field_prefix, "noise");
+        spec.noise.validate(&noise_prefix)?;
+        let rates = Rates::new(fs_in_hz, spec.rate_hz, field_prefix)?;
+        let kernel = rates.kernel(&spec.anti_alias, field_prefix)?;
+        let (back, ahead) = match &kernel {
+            Some(k) => (
+                k.half_width().max(HERMITE_LOOKBACK),
+                k.half_width().max(HERMITE_LOOKAHEAD),
+            ),
+            None => (0, 0),
+        };
+        let mut stages: Vec<Box<dyn SampleStage>> = Vec::new();
+        let mut noise_sigma = 0.0;
+        if spec.noise.density_per_sqrt_hz > 0.0 {
+            let source = WhiteNoiseSource::new(&spec.noise, rates.out.hz(), rng, &noise_prefix)?;
+            noise_sigma = source.sigma();
+            stages.push(Box::new(source));
+        }
+        Ok(Self {
+            schedule: OutputSchedule::new(rates.out, rates.dt_ns, back, ahead),
+            kernel,
+            noise_sigma,
+            stages,
+        })
+    }
+
+    /// Appends a stage after the existing ones (applied to `measured` only).
+    pub fn add_stage(&mut self, stage: Box<dyn SampleStage>) {
+        self.stages.push(stage);
+    }
+
+    /// Pushes the next solver sample; `emit` receives each sample it completes (0 or 1;
+    /// more only after a [`SensorChannel::flush`]). Returns how many.
+    pub fn push(&mut self, value: f64, mut emit: impl FnMut(ChannelSample)) -> usize {
+        let Self {
+            schedule,
+            kernel,
+            stages,
+            ..
+        } = self;
+        let centre = schedule.centre();
+        schedule.push(value, |due| emit(evaluate(kernel, stages, centre, &due)))
+    }
+
+    /// Emits the samples up to the last solver instant, holding the last value where the
+    /// kernel reaches beyond it. After `flush` the channel has emitted exactly the instants
+    /// `t_k <= t_last`: `floor(t_last * rate_hz) + 1` samples. The stream may continue.
+    pub fn flush(&mut self, mut emit: impl FnMut(ChannelSample)) -> usize {
+        let Self {
+            schedule,
+            kernel,
+            stages,
+            ..
+        } = self;
+        let centre = schedule.centre();
+        schedule.flush(|due| emit(evaluate(kernel, stages, centre, &due)))
+    }
+
+    /// Largest delay between a sample's instant and the push that emits it.
+    pub fn latency_ns(&self) -> u64 {
+        self.schedule.lookahead() as u64 * self.schedule.dt_ns()
+    }
+
+    /// Output rate in Hz.
+    pub fn rate_hz(&self) -> f64 {
+        self.schedule.rate().hz()
+    }
+
+    /// Anti-alias kernel taps (1 for pass-through).
+    pub fn taps(&self) -> usize {
+        self.kernel.as_ref().map_or(1, PolyphaseKernel::taps)
+    }
+
+    /// Per-sample white-noise sigma (0 without noise).
+    pub fn noise_sigma(&self) -> f64 {
+        self.noise_sigma
+    }
+
+    /// Instant of sample `k`, `round(k * 1e9 / rate_hz)` ns.
+    pub fn output_instant_ns(&self, k: u64) -> u64 {
+        self.schedule.rate().instant_ns(k)
+    }
+
+    /// Solver samples pushed so far.
+    pub fn pushed(&self) -> u64 {
+        self.schedule.pushed()
+    }
+}
+
+fn evaluate(
+    kernel: &Option<PolyphaseKernel>,
+    stages: &mut [Box<dyn SampleStage>],
+    centre: usize,
+    due: &Due<'_>,
+) -> ChannelSample {
+    let truth = hermite(due.frac, due.window, centre);
+    let mut measured = filter(kernel, centre, due);
+    for stage in stages.iter_mut() {
+        measured = stage.apply(due.t_ns, measured);
+    }
+    ChannelSample {
+        t_ns: due.t_ns,
+        measured,
+        truth,
+    }
+}

@@ -1,0 +1,299 @@
+//! The one time loop: advances the coupled system, feeds the sensor taps, tracks vehicles
+//! (bridge entry and exit, WIM strips, contact loss) and hands time-ordered records to a
+//! `Recorder`. Sensor samples come out of their filters late (a fixed latency), so every
+//! record waits in a small merge buffer until no earlier record can still appear: memory
+//! is bounded by that latency, not by the run length.
+
+pub mod record;
+mod tap;
+mod tracking;
+
+use std::collections::VecDeque;
+
+use crate::bridge::{BridgeModel, ModelSpec, PointQuantity, SparseVec};
+use crate::error::{Error, Result};
+use crate::road::RoadProfile;
+use crate::scenario::{Resolved, SensorKind};
+use crate::sensor::child_rng;
+use crate::solver::{
+    CoupledSolver, CoupledVehicle, NewmarkCoefficients, RoadSurface, SolveMode, Storage,
+};
+
+pub use record::{
+    AxleState, EventLevel, Record, Recorder, VecRecorder, VehicleRecord, WimRecordData,
+};
+pub use tap::{Quantities, SensorTap, TapSample};
+use tracking::Tracker;
+
+impl RoadSurface for RoadProfile {
+    fn elevation_m(&self, x_m: f64) -> f64 {
+        RoadProfile::elevation_m(self, x_m)
+    }
+    fn slope(&self, x_m: f64) -> f64 {
+        RoadProfile::slope(self, x_m)
+    }
+}
+
+/// Headline results of a run.
+#[derive(Debug, Clone)]
+pub struct RunSummary {
+    pub steps: u64,
+    pub duration_s: f64,
+    pub natural_frequencies_hz: Vec<f64>,
+    pub damping_ratios: Vec<f64>,
+    /// (vehicle id, axle index, max force on the bridge / static).
+    pub dlc: Vec<(u32, u32, f64)>,
+    pub contact_loss_steps: u64,
+    pub road_description: String,
+    pub road_csv: String,
+}
+
+/// Everything built before the time loop.
+pub struct Prepared {
+    pub model: BridgeModel,
+    pub road: RoadProfile,
+}
+
+/// Builds the bridge model and the road of a resolved scenario.
+pub fn prepare(resolved: &Resolved) -> Result<Prepared> {
+    let s = &resolved.scenario;
+    let model = BridgeModel::build(&s.bridge.beam(), &s.bridge.model, s.bridge.damping_ratio)?;
+    let wheelbase = resolved
+        .vehicles
+        .iter()
+        .map(|v| v.dynamics.wheelbase_m())
+        .fold(0.0, f64::max);
+    let x_start = -(s.road.approach_m + wheelbase + 5.0);
+    let x_end = s.bridge.span_m + s.road.exit_m + wheelbase + 5.0;
+    let mut rng = child_rng(s.seed, "road");
+    let road = RoadProfile::build(&s.road.profile, x_start, x_end, &mut rng)?;
+    Ok(Prepared { model, road })
+}
+
+/// The response quantities at a point from the bridge state, output signs.
+fn quantities(
+    solver: &CoupledSolver,
+    x_m: f64,
+    deflection_op: &SparseVec,
+    moment_op: &SparseVec,
+    strain_per_moment: f64,
+) -> Quantities {
+    let _ = x_m;
+    let s = &solver.bridge.state;
+    let moment = moment_op.dot(&s.u);
+    [
+        -deflection_op.dot(&s.u),
+        -deflection_op.dot(&s.v),
+        -deflection_op.dot(&s.a),
+        strain_per_moment * moment,
+        moment,
+    ]
+}
+
+fn solve_mode(spec: &ModelSpec) -> SolveMode {
+    match spec {
+        // Banded: sparse Cholesky keeps the band, O(n) per solve.
+        ModelSpec::FiniteElement { .. } => SolveMode::Prefactored(Storage::Sparse),
+        _ => SolveMode::Prefactored(Storage::Dense),
+    }
+}
+
+/// Runs the scenario, handing records to `recorder` in non-decreasing time.
+/// `progress(step, steps)` is called every few thousand steps.
+pub fn run(
+    resolved: &Resolved,
+    prepared: &Prepared,
+    recorder: &mut dyn Recorder,
+    progress: &mut dyn FnMut(u64, u64),
+) -> Result<RunSummary> {
+    let s = &resolved.scenario;
+    let model = &prepared.model;
+    let dt_s = resolved.dt_ns as f64 * 1e-9;
+    let coefficients = NewmarkCoefficients::new(dt_s, s.solver.newmark)?;
+    let mut solver = CoupledSolver::new(
+        model,
+        &prepared.road,
+        coefficients,
+        solve_mode(&s.bridge.model),
+        s.solver.contact,
+    )?;
+    solver.retire_after_m = s.road.exit_m;
+    for v in &resolved.vehicles {
+        solver.add_vehicle(CoupledVehicle::new(
+            v.id,
+            v.dynamics.clone(),
+            v.speed_m_s,
+            -s.road.approach_m,
+            v.entry_step,
+        ));
+    }
+    let solver_rate_hz = 1e9 / resolved.dt_ns as f64;
+    let mut taps = Vec::new();
+    let mut ops = Vec::new();
+    for (i, sensor) in resolved.sensors.iter().enumerate() {
+        let measured_index = match sensor.spec.kind {
+            SensorKind::Displacement => 0,
+            SensorKind::Accelerometer => 2,
+            SensorKind::Strain => 3,
+        };
+        taps.push(SensorTap::new(
+            solver_rate_hz,
+            sensor.spec.rate_hz,
+            sensor.noise_density,
+            measured_index,
+            s.seed,
+            &sensor.spec.id,
+            &format!("sensors.{i}"),
+        )?);
+        let x = sensor.spec.position_m;
+        let mut d = SparseVec::with_capacity(model.n_dof());
+        let mut m = SparseVec::with_capacity(model.n_dof());
+        model.point_operator(x, PointQuantity::Deflection, &mut d);
+        model.point_operator(x, PointQuantity::Moment, &mut m);
+        // Bending strain at the gauge: eps = M c / EI(x) (sagging M stretches the bottom).
+        let strain_per_moment = 1e6 * sensor.gauge_depth_m / model.beam.ei_at_n_m2(x);
+        ops.push((x, d, m, strain_per_moment));
+    }
+    let max_latency_ns = taps.iter().map(|t| t.latency_ns()).max().unwrap_or(0) + resolved.dt_ns;
+    let mut merger = Merger::new(taps.len());
+    let mut tracker = Tracker::new(resolved, model.span_m());
+    let mut shape_ops: Vec<SparseVec> = model
+        .shape_positions_m()
+        .iter()
+        .map(|&x| {
+            let mut op = SparseVec::default();
+            model.point_operator(x, PointQuantity::Deflection, &mut op);
+            op
+        })
+        .collect();
+    shape_ops.shrink_to_fit();
+
+    for step in 0..=resolved.steps {
+        if step > 0 {
+            solver.advance()?;
+        }
+        let t_ns = step * resolved.dt_ns;
+        check_finite(&solver, step, dt_s)?;
+        for (tap, (x, d, m, k)) in taps.iter_mut().zip(&ops) {
+            tap.push(&quantities(&solver, *x, d, m, *k));
+        }
+        if step % resolved.axle_stride == 0 {
+            merger.truth.push_back(Record::AxleLoads {
+                t_ns,
+                axles: tracker.axle_states(&solver, step),
+            });
+        }
+        if step % resolved.bridge_stride == 0 {
+            let deflection_m = shape_ops
+                .iter()
+                .map(|op| -op.dot(&solver.bridge.state.u))
+                .collect();
+            merger
+                .truth
+                .push_back(Record::BridgeShape { t_ns, deflection_m });
+        }
+        tracker.observe(&solver, step, &mut merger.truth);
+        merger.release(&mut taps, t_ns.saturating_sub(max_latency_ns), recorder)?;
+        if step % 5000 == 0 {
+            progress(step, resolved.steps);
+        }
+    }
+    for tap in &mut taps {
+        tap.flush();
+    }
+    tracker.finish(&solver, &mut merger.truth);
+    merger.release(&mut taps, u64::MAX, recorder)?;
+    progress(resolved.steps, resolved.steps);
+
+    let n_modes = model.omega_rad_s.len().min(10);
+    Ok(RunSummary {
+        steps: resolved.steps,
+        duration_s: resolved.duration_s(),
+        natural_frequencies_hz: (1..=n_modes).map(|n| model.frequency_hz(n)).collect(),
+        damping_ratios: model
+            .omega_rad_s
+            .iter()
+            .take(n_modes)
+            .map(|&w| model.rayleigh.ratio_at(w))
+            .collect(),
+        dlc: tracker.dlc_ratios(&solver),
+        contact_loss_steps: solver.vehicles.iter().map(|v| v.contact_loss_steps).sum(),
+        road_description: prepared.road.describe().to_string(),
+        road_csv: prepared.road.to_csv(),
+    })
+}
+
+/// Stops the run on a non-finite or runaway bridge state.
+fn check_finite(solver: &CoupledSolver, step: u64, dt_s: f64) -> Result<()> {
+    let u = &solver.bridge.state.u;
+    let worst = u.iter().fold(0.0f64, |a, &b| {
+        if b.is_finite() {
+            a.max(b.abs())
+        } else {
+            f64::INFINITY
+        }
+    });
+    // A bridge displacement of a tenth of the span is far beyond any linear response.
+    if !worst.is_finite() || worst > 0.1 * solver.model.span_m() {
+        return Err(Error::Divergence {
+            time_s: step as f64 * dt_s,
+            step,
+            quantity: "bridge displacement (m)".into(),
+            value: worst,
+            hint: "reduce solver.dt_s, check vehicle and bridge parameters, or use solver.contact = \"unilateral\"".into(),
+        });
+    }
+    Ok(())
+}
+
+/// Merges the sensor streams (each late by its filter latency) with the truth stream.
+struct Merger {
+    truth: VecDeque<Record>,
+}
+
+impl Merger {
+    fn new(_sensors: usize) -> Self {
+        Merger {
+            truth: VecDeque::new(),
+        }
+    }
+
+    /// Writes every record with time <= `watermark_ns`, in time order (ties: truth first,
+    /// then sensors in scenario order).
+    fn release(
+        &mut self,
+        taps: &mut [SensorTap],
+        watermark_ns: u64,
+        recorder: &mut dyn Recorder,
+    ) -> Result<()> {
+        loop {
+            let mut best: Option<(u64, usize)> = self.truth.front().map(|r| (r.t_ns(), 0));
+            for (i, tap) in taps.iter().enumerate() {
+                if let Some(t) = tap.next_time_ns() {
+                    if best.is_none_or(|(bt, _)| t < bt) {
+                        best = Some((t, i + 1));
+                    }
+                }
+            }
+            let Some((t, source)) = best else {
+                return Ok(());
+            };
+            if t > watermark_ns {
+                return Ok(());
+            }
+            let record = if source == 0 {
+                self.truth.pop_front()
+            } else {
+                taps[source - 1].pop().map(|s| Record::Sensor {
+                    sensor: source - 1,
+                    t_ns: s.t_ns,
+                    measured: s.measured,
+                    truth: s.truth,
+                })
+            };
+            if let Some(r) = record {
+                recorder.record(r)?;
+            }
+        }
+    }
+}

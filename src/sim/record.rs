@@ -1,0 +1,115 @@
+//! What a run produces, as plain data: the sink turns these into protobuf messages.
+//! Times are ns since the start of the run; signs follow the output convention
+//! (vertical displacement, velocity and acceleration downward positive; forces
+//! pressing on the road positive).
+
+use super::tap::Quantities;
+
+/// Severity of an event.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum EventLevel {
+    Info,
+    Warning,
+}
+
+/// One axle's state.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AxleState {
+    pub vehicle_id: u32,
+    pub axle_index: u32,
+    pub position_m: f64,
+    pub force_n: f64,
+    pub static_load_n: f64,
+    pub in_contact: bool,
+    pub on_bridge: bool,
+}
+
+/// The truth of one vehicle, written when it leaves the bridge (or at the end of the run).
+#[derive(Debug, Clone, PartialEq)]
+pub struct VehicleRecord {
+    pub vehicle_id: u32,
+    pub model: String,
+    pub lane: u32,
+    pub speed_m_s: f64,
+    pub entry_time_ns: Option<u64>,
+    pub exit_time_ns: Option<u64>,
+    pub axle_spacing_m: Vec<f64>,
+    pub static_axle_load_n: Vec<f64>,
+    pub gross_weight_n: f64,
+    pub parameters: Vec<(String, f64)>,
+}
+
+/// One WIM record.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WimRecordData {
+    pub station: usize,
+    pub vehicle_id: u32,
+    pub lane: u32,
+    pub speed_m_s: f64,
+    pub axle_spacing_m: Vec<f64>,
+    pub axle_load_n: Vec<f64>,
+}
+
+/// A record with its time.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Record {
+    Sensor {
+        sensor: usize,
+        t_ns: u64,
+        measured: f64,
+        truth: Quantities,
+    },
+    AxleLoads {
+        t_ns: u64,
+        axles: Vec<AxleState>,
+    },
+    BridgeShape {
+        t_ns: u64,
+        deflection_m: Vec<f64>,
+    },
+    Vehicle {
+        t_ns: u64,
+        vehicle: VehicleRecord,
+    },
+    Wim {
+        t_ns: u64,
+        record: WimRecordData,
+    },
+    Event {
+        t_ns: u64,
+        level: EventLevel,
+        text: String,
+    },
+}
+
+impl Record {
+    /// Time of the record (ns since the run start).
+    pub fn t_ns(&self) -> u64 {
+        match self {
+            Record::Sensor { t_ns, .. }
+            | Record::AxleLoads { t_ns, .. }
+            | Record::BridgeShape { t_ns, .. }
+            | Record::Vehicle { t_ns, .. }
+            | Record::Wim { t_ns, .. }
+            | Record::Event { t_ns, .. } => *t_ns,
+        }
+    }
+}
+
+/// Receives the records of a run in non-decreasing time order.
+pub trait Recorder {
+    fn record(&mut self, record: Record) -> crate::Result<()>;
+}
+
+/// Collects records in memory (tests, small runs).
+#[derive(Debug, Default)]
+pub struct VecRecorder {
+    pub records: Vec<Record>,
+}
+
+impl Recorder for VecRecorder {
+    fn record(&mut self, record: Record) -> crate::Result<()> {
+        self.records.push(record);
+        Ok(())
+    }
+}

@@ -1,0 +1,246 @@
+//! Follows every vehicle along the road: bridge entry and exit, WIM strips, contact loss,
+//! and the largest tyre force on the bridge (for the DLC).
+
+use std::collections::VecDeque;
+
+use super::record::{AxleState, EventLevel, Record, VehicleRecord, WimRecordData};
+use crate::scenario::Resolved;
+use crate::solver::CoupledSolver;
+
+struct VehicleTrack {
+    lane: u32,
+    speed_m_s: f64,
+    started: bool,
+    prev_x_m: Vec<f64>,
+    entry_ns: Option<u64>,
+    exit_ns: Option<u64>,
+    emitted: bool,
+    /// Per station, per axle: (crossing time, tyre force).
+    wim: Vec<Vec<Option<(u64, f64)>>>,
+    wim_done: Vec<bool>,
+    max_force_on_bridge_n: Vec<f64>,
+    losing_contact: Vec<bool>,
+}
+
+/// Vehicle bookkeeping of a run.
+pub struct Tracker {
+    span_m: f64,
+    dt_ns: u64,
+    wim_positions_m: Vec<f64>,
+    tracks: Vec<VehicleTrack>,
+}
+
+impl Tracker {
+    pub fn new(resolved: &Resolved, span_m: f64) -> Self {
+        let stations = resolved.scenario.wim_stations.len();
+        let tracks = resolved
+            .vehicles
+            .iter()
+            .map(|v| {
+                let axles = v.dynamics.axles.len();
+                VehicleTrack {
+                    lane: v.lane,
+                    speed_m_s: v.speed_m_s,
+                    started: false,
+                    prev_x_m: vec![0.0; axles],
+                    entry_ns: None,
+                    exit_ns: None,
+                    emitted: false,
+                    wim: vec![vec![None; axles]; stations],
+                    wim_done: vec![false; stations],
+                    max_force_on_bridge_n: vec![0.0; axles],
+                    losing_contact: vec![false; axles],
+                }
+            })
+            .collect();
+        Tracker {
+            span_m,
+            dt_ns: resolved.dt_ns,
+            wim_positions_m: resolved
+                .scenario
+                .wim_stations
+                .iter()
+                .map(|w| w.position_m)
+                .collect(),
+            tracks,
+        }
+    }
+
+    /// The axles of every vehicle on the road.
+    pub fn axle_states(&self, solver: &CoupledSolver, step: u64) -> Vec<AxleState> {
+        let dt_s = self.dt_ns as f64 * 1e-9;
+        let mut out = Vec::new();
+        for v in solver.vehicles.iter().filter(|v| v.is_active()) {
+            for (j, axle) in v.dynamics.axles.iter().enumerate() {
+                let x = v.axle_x_m(j, step, dt_s);
+                out.push(AxleState {
+                    vehicle_id: v.id,
+                    axle_index: j as u32,
+                    position_m: x,
+                    force_n: v.contact_force_n[j],
+                    static_load_n: axle.static_load_n,
+                    in_contact: v.in_contact[j] && v.contact_force_n[j] >= 0.0,
+                    on_bridge: (0.0..=self.span_m).contains(&x),
+                });
+            }
+        }
+        out
+    }
+
+    /// Detects crossings since the previous step and queues the records they produce.
+    pub fn observe(&mut self, solver: &CoupledSolver, step: u64, queue: &mut VecDeque<Record>) {
+        let t_ns = step * self.dt_ns;
+        let dt_s = self.dt_ns as f64 * 1e-9;
+        for (v, track) in solver.vehicles.iter().zip(&mut self.tracks) {
+            if !v.is_active() {
+                continue;
+            }
+            let axles = v.dynamics.axles.len();
+            let x: Vec<f64> = (0..axles).map(|j| v.axle_x_m(j, step, dt_s)).collect();
+            if !track.started {
+                track.started = true;
+                track.prev_x_m.copy_from_slice(&x);
+                continue;
+            }
+            let crossed = |j: usize, at: f64| track.prev_x_m[j] < at && x[j] >= at;
+            if crossed(0, 0.0) {
+                track.entry_ns = Some(t_ns);
+                queue.push_back(event(
+                    t_ns,
+                    EventLevel::Info,
+                    format!("vehicle {} enters the bridge", v.id),
+                ));
+            }
+            for (s, &p) in self.wim_positions_m.iter().enumerate() {
+                for j in 0..axles {
+                    if crossed(j, p) {
+                        track.wim[s][j] = Some((t_ns, v.contact_force_n[j]));
+                    }
+                }
+                if !track.wim_done[s] && track.wim[s].iter().all(Option::is_some) {
+                    track.wim_done[s] = true;
+                    queue.push_back(Record::Wim {
+                        t_ns,
+                        record: wim_record(s, v, track),
+                    });
+                }
+            }
+            for (j, &xj) in x.iter().enumerate() {
+                if (0.0..=self.span_m).contains(&xj) {
+                    track.max_force_on_bridge_n[j] =
+                        track.max_force_on_bridge_n[j].max(v.contact_force_n[j]);
+                }
+                let losing = !v.in_contact[j] || v.contact_force_n[j] < 0.0;
+                if losing != track.losing_contact[j] {
+                    track.losing_contact[j] = losing;
+                    let what = if losing {
+                        "loses contact"
+                    } else {
+                        "regains contact"
+                    };
+                    let level = if losing {
+                        EventLevel::Warning
+                    } else {
+                        EventLevel::Info
+                    };
+                    queue.push_back(event(
+                        t_ns,
+                        level,
+                        format!("vehicle {} axle {} {what} at x = {:.2} m", v.id, j, xj),
+                    ));
+                }
+            }
+            if crossed(axles - 1, self.span_m) {
+                track.exit_ns = Some(t_ns);
+                queue.push_back(event(
+                    t_ns,
+                    EventLevel::Info,
+                    format!("vehicle {} leaves the bridge", v.id),
+                ));
+                queue.push_back(Record::Vehicle {
+                    t_ns,
+                    vehicle: vehicle_record(v, track),
+                });
+                track.emitted = true;
+            }
+            track.prev_x_m.copy_from_slice(&x);
+        }
+    }
+
+    /// Queues the records of vehicles that had not left the bridge when the run ended.
+    pub fn finish(&mut self, solver: &CoupledSolver, queue: &mut VecDeque<Record>) {
+        let t_ns = solver.step * self.dt_ns;
+        for (v, track) in solver.vehicles.iter().zip(&mut self.tracks) {
+            if !track.emitted {
+                track.emitted = true;
+                queue.push_back(Record::Vehicle {
+                    t_ns,
+                    vehicle: vehicle_record(v, track),
+                });
+            }
+        }
+    }
+
+    /// (vehicle id, axle, max tyre force on the bridge / static) for vehicles that entered.
+    pub fn dlc_ratios(&self, solver: &CoupledSolver) -> Vec<(u32, u32, f64)> {
+        let mut out = Vec::new();
+        for (v, track) in solver.vehicles.iter().zip(&self.tracks) {
+            if track.entry_ns.is_none() {
+                continue;
+            }
+            for (j, axle) in v.dynamics.axles.iter().enumerate() {
+                out.push((
+                    v.id,
+                    j as u32,
+                    track.max_force_on_bridge_n[j] / axle.static_load_n,
+                ));
+            }
+        }
+        out
+    }
+}
+
+fn event(t_ns: u64, level: EventLevel, text: String) -> Record {
+    Record::Event { t_ns, level, text }
+}
+
+fn spacings(v: &crate::solver::CoupledVehicle) -> Vec<f64> {
+    v.dynamics
+        .axles
+        .windows(2)
+        .map(|w| w[1].offset_m - w[0].offset_m)
+        .collect()
+}
+
+fn wim_record(
+    station: usize,
+    v: &crate::solver::CoupledVehicle,
+    track: &VehicleTrack,
+) -> WimRecordData {
+    WimRecordData {
+        station,
+        vehicle_id: v.id,
+        lane: track.lane,
+        speed_m_s: track.speed_m_s,
+        axle_spacing_m: spacings(v),
+        axle_load_n: track.wim[station]
+            .iter()
+            .map(|c| c.map(|(_, f)| f).unwrap_or(f64::NAN))
+            .collect(),
+    }
+}
+
+fn vehicle_record(v: &crate::solver::CoupledVehicle, track: &VehicleTrack) -> VehicleRecord {
+    VehicleRecord {
+        vehicle_id: v.id,
+        model: v.dynamics.name.clone(),
+        lane: track.lane,
+        speed_m_s: track.speed_m_s,
+        entry_time_ns: track.entry_ns,
+        exit_time_ns: track.exit_ns,
+        axle_spacing_m: spacings(v),
+        static_axle_load_n: v.dynamics.axles.iter().map(|a| a.static_load_n).collect(),
+        gross_weight_n: v.dynamics.gross_weight_n(),
+        parameters: v.dynamics.parameters.clone(),
+    }
+}

@@ -1,0 +1,340 @@
+//! Turns the records of a run (`sim::Record`) into protobuf messages on the MCAP topics of
+//! the output contract.
+
+use std::collections::BTreeMap;
+use std::io::{Seek, Write};
+
+use super::proto::foxglove::{log::Level, Log};
+use super::proto::v1::{
+    AccelerationSample, AxleLoad, AxleLoads, BridgeState, DisplacementSample, SensorTruth,
+    StrainSample, VehicleTruth, WimRecord,
+};
+use super::{metadata, timestamp_from_ns, ChannelId, McapSink, Topics};
+use crate::error::Result;
+use crate::scenario::{Resolved, SensorKind};
+use crate::sim::{EventLevel, Record, Recorder};
+
+/// Channel of one sensor.
+struct SensorChannels {
+    kind: SensorKind,
+    id: String,
+    measured: ChannelId,
+    truth: ChannelId,
+}
+
+/// A `Recorder` writing to an MCAP sink.
+pub struct McapRecorder<'a, W: Write + Seek> {
+    sink: &'a mut McapSink<W>,
+    start_time_ns: u64,
+    sensors: Vec<SensorChannels>,
+    axle_loads: ChannelId,
+    bridge: ChannelId,
+    vehicles: ChannelId,
+    wim: Vec<(String, ChannelId)>,
+    events: ChannelId,
+    node_position_m: Vec<f64>,
+    span_m: f64,
+    /// Messages written.
+    pub messages: u64,
+}
+
+impl<'a, W: Write + Seek> McapRecorder<'a, W> {
+    /// Registers every channel of the scenario, with units, rates and positions as channel
+    /// metadata.
+    pub fn new(
+        sink: &'a mut McapSink<W>,
+        resolved: &Resolved,
+        node_position_m: Vec<f64>,
+    ) -> Result<Self> {
+        let mut sensors = Vec::new();
+        for s in &resolved.sensors {
+            let spec = &s.spec;
+            let rate = format!("{}", spec.rate_hz);
+            let position = format!("{}", spec.position_m);
+            let density = format!("{}", s.noise_density);
+            let mut meta = metadata([
+                ("unit", spec.kind.unit()),
+                ("sample_rate_hz", rate.as_str()),
+                ("position_m", position.as_str()),
+                ("sensor_model", "white_noise"),
+                ("noise_density_per_sqrt_hz", density.as_str()),
+                ("sign", "downward positive (strain: tension positive)"),
+            ]);
+            if spec.kind == SensorKind::Strain {
+                meta.insert("gauge_depth_m".into(), format!("{}", s.gauge_depth_m));
+            }
+            let measured = match spec.kind {
+                SensorKind::Accelerometer => {
+                    sink.add_channel::<AccelerationSample>(&Topics::accel(&spec.id)?, meta.clone())?
+                }
+                SensorKind::Strain => {
+                    sink.add_channel::<StrainSample>(&Topics::strain(&spec.id)?, meta.clone())?
+                }
+                SensorKind::Displacement => {
+                    sink.add_channel::<DisplacementSample>(&Topics::disp(&spec.id)?, meta.clone())?
+                }
+            };
+            meta.insert(
+                "sensor_model".into(),
+                "truth (noise-free, unfiltered, true time)".into(),
+            );
+            let truth = sink.add_channel::<SensorTruth>(&Topics::truth_sensor(&spec.id)?, meta)?;
+            sensors.push(SensorChannels {
+                kind: spec.kind,
+                id: spec.id.clone(),
+                measured,
+                truth,
+            });
+        }
+        let axle_rate = format!("{}", resolved.scenario.output.axle_load_rate_hz);
+        let axle_loads = sink.add_channel::<AxleLoads>(
+            Topics::AXLE_LOADS,
+            metadata([
+                ("unit", "N"),
+                ("sample_rate_hz", axle_rate.as_str()),
+                ("sign", "force on the road positive"),
+            ]),
+        )?;
+        let bridge_rate = format!("{}", resolved.scenario.output.bridge_state_rate_hz);
+        let bridge = sink.add_channel::<BridgeState>(
+            Topics::BRIDGE,
+            metadata([
+                ("unit", "m"),
+                ("sample_rate_hz", bridge_rate.as_str()),
+                ("sign", "deflection downward positive"),
+            ]),
+        )?;
+        let vehicles = sink.add_channel::<VehicleTruth>(
+            Topics::VEHICLES,
+            metadata([("content", "one record per vehicle")]),
+        )?;
+        let mut wim = Vec::new();
+        for w in &resolved.scenario.wim_stations {
+            let position = format!("{}", w.position_m);
+            let ch = sink.add_channel::<WimRecord>(
+                &Topics::wim(&w.id)?,
+                metadata([
+                    ("position_m", position.as_str()),
+                    ("station_model", "dynamic tyre force at the strip"),
+                ]),
+            )?;
+            wim.push((w.id.clone(), ch));
+        }
+        let events = sink.add_channel::<Log>(Topics::EVENTS, BTreeMap::new())?;
+        Ok(McapRecorder {
+            sink,
+            start_time_ns: resolved.start_time_ns,
+            sensors,
+            axle_loads,
+            bridge,
+            vehicles,
+            wim,
+            events,
+            node_position_m,
+            span_m: resolved.scenario.bridge.span_m,
+            messages: 0,
+        })
+    }
+
+    /// Writes the modal state at the start on `/truth/bridge`.
+    pub fn write_modal_state(
+        &mut self,
+        frequencies_hz: &[f64],
+        damping_ratios: &[f64],
+    ) -> Result<()> {
+        let time = self.start_time_ns;
+        let msg = BridgeState {
+            timestamp: Some(timestamp_from_ns(time)),
+            node_position_m: self.node_position_m.clone(),
+            deflection_m: vec![0.0; self.node_position_m.len()],
+            natural_frequency_hz: frequencies_hz.to_vec(),
+            damping_ratio: damping_ratios.to_vec(),
+            ..Default::default()
+        };
+        self.messages += 1;
+        self.sink.write(self.bridge, time, &msg)
+    }
+}
+
+impl<W: Write + Seek> Recorder for McapRecorder<'_, W> {
+    fn record(&mut self, record: Record) -> Result<()> {
+        let time = self.start_time_ns + record.t_ns();
+        let ts = Some(timestamp_from_ns(time));
+        self.messages += 1;
+        match record {
+            Record::Sensor {
+                sensor,
+                measured,
+                truth,
+                ..
+            } => {
+                let ch = &self.sensors[sensor];
+                match ch.kind {
+                    SensorKind::Accelerometer => self.sink.write(
+                        ch.measured,
+                        time,
+                        &AccelerationSample {
+                            timestamp: ts,
+                            acceleration_m_s2: measured,
+                        },
+                    )?,
+                    SensorKind::Strain => self.sink.write(
+                        ch.measured,
+                        time,
+                        &StrainSample {
+                            timestamp: ts,
+                            strain_microstrain: measured,
+                        },
+                    )?,
+                    SensorKind::Displacement => self.sink.write(
+                        ch.measured,
+                        time,
+                        &DisplacementSample {
+                            timestamp: ts,
+                            displacement_m: measured,
+                        },
+                    )?,
+                }
+                self.messages += 1;
+                let msg = SensorTruth {
+                    timestamp: ts,
+                    sensor_id: ch.id.clone(),
+                    displacement_m: truth[0],
+                    velocity_m_s: truth[1],
+                    acceleration_m_s2: truth[2],
+                    strain_microstrain: truth[3],
+                    moment_n_m: truth[4],
+                };
+                self.sink.write(ch.truth, time, &msg)
+            }
+            Record::AxleLoads { axles, .. } => {
+                let axles = axles
+                    .iter()
+                    .map(|a| AxleLoad {
+                        vehicle_id: a.vehicle_id,
+                        axle_index: a.axle_index,
+                        position_m: a.position_m,
+                        force_n: a.force_n,
+                        static_load_n: a.static_load_n,
+                        in_contact: a.in_contact,
+                        on_bridge: a.on_bridge,
+                    })
+                    .collect();
+                self.sink.write(
+                    self.axle_loads,
+                    time,
+                    &AxleLoads {
+                        timestamp: ts,
+                        axles,
+                    },
+                )
+            }
+            Record::BridgeShape { deflection_m, .. } => {
+                let mid = self.span_m / 2.0;
+                let midspan = interpolate(&self.node_position_m, &deflection_m, mid);
+                let msg = BridgeState {
+                    timestamp: ts,
+                    node_position_m: self.node_position_m.clone(),
+                    deflection_m,
+                    midspan_deflection_m: midspan,
+                    ..Default::default()
+                };
+                self.sink.write(self.bridge, time, &msg)
+            }
+            Record::Vehicle { vehicle, .. } => {
+                let msg = VehicleTruth {
+                    timestamp: ts,
+                    vehicle_id: vehicle.vehicle_id,
+                    vehicle_class: vehicle.model.split('/').next().unwrap_or("").to_string(),
+                    model: vehicle.model.clone(),
+                    lane: vehicle.lane,
+                    direction: 1,
+                    speed_m_s: vehicle.speed_m_s,
+                    entry_time: vehicle
+                        .entry_time_ns
+                        .map(|t| timestamp_from_ns(self.start_time_ns + t)),
+                    exit_time: vehicle
+                        .exit_time_ns
+                        .map(|t| timestamp_from_ns(self.start_time_ns + t)),
+                    axle_spacing_m: vehicle.axle_spacing_m.clone(),
+                    static_axle_load_n: vehicle.static_axle_load_n.clone(),
+                    gross_weight_n: vehicle.gross_weight_n,
+                    parameters: vehicle.parameters.iter().cloned().collect(),
+                };
+                self.sink.write(self.vehicles, time, &msg)
+            }
+            Record::Wim { record, .. } => {
+                let (station_id, ch) = self.wim[record.station].clone();
+                let msg = WimRecord {
+                    timestamp: ts,
+                    station_id,
+                    vehicle_id: record.vehicle_id,
+                    lane: record.lane,
+                    speed_m_s: record.speed_m_s,
+                    axle_count: record.axle_load_n.len() as u32,
+                    axle_spacing_m: record.axle_spacing_m.clone(),
+                    gross_weight_n: record.axle_load_n.iter().sum(),
+                    axle_load_n: record.axle_load_n,
+                    axle_pattern: axle_pattern(&record.axle_spacing_m),
+                    flags: Vec::new(),
+                };
+                self.sink.write(ch, time, &msg)
+            }
+            Record::Event { level, text, .. } => {
+                let msg = Log {
+                    timestamp: ts,
+                    level: match level {
+                        EventLevel::Info => Level::Info as i32,
+                        EventLevel::Warning => Level::Warning as i32,
+                    },
+                    message: text,
+                    name: "bridgetwin".into(),
+                    file: String::new(),
+                    line: 0,
+                };
+                self.sink.write(self.events, time, &msg)
+            }
+        }
+    }
+}
+
+/// Axle groups: axles closer than 2.1 m form a group ("1-1", "1-2", ...; SENSORS.md 3).
+fn axle_pattern(spacings_m: &[f64]) -> String {
+    let mut groups = vec![1];
+    for &s in spacings_m {
+        if s < 2.1 {
+            if let Some(last) = groups.last_mut() {
+                *last += 1;
+            }
+        } else {
+            groups.push(1);
+        }
+    }
+    groups
+        .iter()
+        .map(|g| g.to_string())
+        .collect::<Vec<_>>()
+        .join("-")
+}
+
+fn interpolate(xs: &[f64], ys: &[f64], x: f64) -> f64 {
+    let i = xs
+        .partition_point(|&v| v <= x)
+        .clamp(1, xs.len().saturating_sub(1).max(1));
+    if xs.len() < 2 {
+        return ys.first().copied().unwrap_or(0.0);
+    }
+    let (x0, x1) = (xs[i - 1], xs[i]);
+    let w = if x1 > x0 { (x - x0) / (x1 - x0) } else { 0.0 };
+    ys[i - 1] * (1.0 - w) + ys[i] * w
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn axle_pattern_groups_close_axles() {
+        assert_eq!(super::axle_pattern(&[4.27]), "1-1");
+        assert_eq!(super::axle_pattern(&[3.24, 5.43, 1.2, 1.21]), "1-1-3");
+        assert_eq!(super::axle_pattern(&[]), "1");
+    }
+}

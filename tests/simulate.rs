@@ -1,0 +1,296 @@
+//! The main job end to end: records of a run, and the MCAP file the binary writes.
+
+use std::path::Path;
+use std::process::Command;
+
+use bridgetwin::scenario::Scenario;
+use bridgetwin::sim::{prepare, run, Record, VecRecorder};
+
+fn records(scenario: &Scenario) -> (Vec<Record>, bridgetwin::sim::RunSummary) {
+    let resolved = scenario.resolve().expect("valid scenario");
+    let prepared = prepare(&resolved).expect("prepared");
+    let mut recorder = VecRecorder::default();
+    let summary = run(&resolved, &prepared, &mut recorder, &mut |_, _| {}).expect("run");
+    (recorder.records, summary)
+}
+
+fn quiet_default() -> Scenario {
+    let mut s = Scenario::default_scenario();
+    for sensor in &mut s.sensors {
+        sensor.noise_density = Some(0.0);
+    }
+    s
+}
+
+#[test]
+fn records_come_in_time_order_with_one_sample_per_period() {
+    let s = Scenario::default_scenario();
+    let resolved = s.resolve().unwrap();
+    let (recs, _) = records(&s);
+    let times: Vec<u64> = recs.iter().map(Record::t_ns).collect();
+    assert!(
+        times.windows(2).all(|w| w[0] <= w[1]),
+        "log times must not decrease"
+    );
+    // Sample instants k / rate for k = 0..=floor(duration * rate): duration x rate + 1.
+    let expected = (resolved.duration_s() * 200.0).floor() as usize + 1;
+    for i in 0..resolved.sensors.len() {
+        let n = recs
+            .iter()
+            .filter(|r| matches!(r, Record::Sensor { sensor, .. } if *sensor == i))
+            .count();
+        assert_eq!(n, expected, "sensor {i}");
+    }
+}
+
+#[test]
+fn without_noise_the_measurement_equals_the_truth_at_the_sample_instants() {
+    // The anti-alias filter's pass band (0.4 fs = 80 Hz, ripple 1e-4) holds all of the
+    // displacement and strain, so measured = truth to 0.1 % of the peak. The truth stream
+    // is unfiltered: accelerations also carry bridge modes 5 and up (f5 = 94 Hz, above the
+    // 200 Hz DAQ's Nyquist band), which the anti-alias filter rightly removes; there the
+    // check is on energy: the rejected part is under 5 % of the RMS.
+    let (recs, _) = records(&quiet_default());
+    let resolved = quiet_default().resolve().unwrap();
+    for (i, sensor) in resolved.sensors.iter().enumerate() {
+        let pairs: Vec<(f64, f64)> = recs
+            .iter()
+            .filter_map(|r| match r {
+                Record::Sensor {
+                    sensor,
+                    measured,
+                    truth,
+                    ..
+                } if *sensor == i => Some((*measured, truth[sensor_kind_index(&resolved, i)])),
+                _ => None,
+            })
+            .collect();
+        let peak = pairs.iter().fold(0.0f64, |a, p| a.max(p.1.abs()));
+        let worst = pairs.iter().fold(0.0f64, |a, p| a.max((p.0 - p.1).abs()));
+        let rms = |f: &dyn Fn(&(f64, f64)) -> f64| {
+            (pairs.iter().map(|p| f(p).powi(2)).sum::<f64>() / pairs.len() as f64).sqrt()
+        };
+        if sensor.spec.kind == bridgetwin::scenario::SensorKind::Accelerometer {
+            let ratio = rms(&|p| p.0 - p.1) / rms(&|p| p.1);
+            assert!(
+                ratio < 0.05,
+                "{}: rejected RMS fraction {ratio:e}",
+                sensor.spec.id
+            );
+        } else {
+            assert!(
+                peak > 0.0 && worst <= 1e-3 * peak,
+                "{}: worst {worst:e} vs peak {peak:e}",
+                sensor.spec.id
+            );
+        }
+    }
+}
+
+fn sensor_kind_index(resolved: &bridgetwin::scenario::Resolved, i: usize) -> usize {
+    use bridgetwin::scenario::SensorKind;
+    match resolved.sensors[i].spec.kind {
+        SensorKind::Displacement => 0,
+        SensorKind::Accelerometer => 2,
+        SensorKind::Strain => 3,
+    }
+}
+
+#[test]
+fn wim_loads_are_the_tyre_forces_at_the_strip() {
+    // A moving force has no dynamics: the strip must read the static loads exactly.
+    let mut s = quiet_default();
+    s.vehicles[0].model = bridgetwin::vehicle::VehicleModelSpec::MovingForce {
+        axle_loads_n: vec![60_000.0, 120_000.0],
+        axle_spacing_m: vec![4.0],
+    };
+    let (recs, _) = records(&s);
+    let wim: Vec<_> = recs
+        .iter()
+        .filter_map(|r| {
+            if let Record::Wim { record, .. } = r {
+                Some(record.clone())
+            } else {
+                None
+            }
+        })
+        .collect();
+    assert_eq!(wim.len(), 1);
+    assert_eq!(wim[0].axle_load_n, vec![60_000.0, 120_000.0]);
+    assert_eq!(wim[0].axle_spacing_m, vec![4.0]);
+    // The half car: the strip reads the dynamic tyre force, which differs from static on
+    // a rough road but stays within the tyre's plausible range.
+    let (recs, _) = records(&quiet_default());
+    let wim: Vec<_> = recs
+        .iter()
+        .filter_map(|r| {
+            if let Record::Wim { record, .. } = r {
+                Some(record.clone())
+            } else {
+                None
+            }
+        })
+        .collect();
+    let axles: Vec<_> = recs
+        .iter()
+        .find_map(|r| {
+            if let Record::AxleLoads { axles, .. } = r {
+                Some(axles.clone())
+            } else {
+                None
+            }
+        })
+        .unwrap();
+    for (load, axle) in wim[0].axle_load_n.iter().zip(&axles) {
+        assert!(
+            (load / axle.static_load_n - 1.0).abs() < 0.5,
+            "{load} vs static {}",
+            axle.static_load_n
+        );
+        assert!(
+            (load - axle.static_load_n).abs() > 1.0,
+            "a rough road makes the force dynamic"
+        );
+    }
+}
+
+#[test]
+fn events_mark_entry_and_exit_and_the_vehicle_record_has_both_times() {
+    let (recs, summary) = records(&quiet_default());
+    let texts: Vec<String> = recs
+        .iter()
+        .filter_map(|r| {
+            if let Record::Event { text, .. } = r {
+                Some(text.clone())
+            } else {
+                None
+            }
+        })
+        .collect();
+    assert!(
+        texts.iter().any(|t| t.contains("enters the bridge")),
+        "{texts:?}"
+    );
+    assert!(
+        texts.iter().any(|t| t.contains("leaves the bridge")),
+        "{texts:?}"
+    );
+    let vehicle = recs
+        .iter()
+        .find_map(|r| {
+            if let Record::Vehicle { vehicle, .. } = r {
+                Some(vehicle.clone())
+            } else {
+                None
+            }
+        })
+        .unwrap();
+    let (entry, exit) = (
+        vehicle.entry_time_ns.unwrap(),
+        vehicle.exit_time_ns.unwrap(),
+    );
+    // Front axle at x = -100 m at t = 0 at 20 m/s: enters at 5 s, last axle leaves at (130 + 4.27) / 20.
+    assert!((entry as f64 * 1e-9 - 5.0).abs() < 2e-3, "{entry}");
+    assert!((exit as f64 * 1e-9 - 134.27 / 20.0).abs() < 2e-3, "{exit}");
+    assert!(summary.dlc.iter().all(|&(_, _, d)| d > 1.0 && d < 2.0));
+    assert!((summary.natural_frequencies_hz[0] - 3.78).abs() < 0.01);
+}
+
+fn simulate(out: &Path, extra: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_bridgetwin"))
+        .args(["simulate", "--out"])
+        .arg(out)
+        .args(extra)
+        .output()
+        .expect("binary runs")
+}
+
+#[test]
+fn same_seed_same_bytes_another_seed_differs() {
+    let dir = tempfile::tempdir().unwrap();
+    let (a, b, c) = (
+        dir.path().join("a.mcap"),
+        dir.path().join("b.mcap"),
+        dir.path().join("c.mcap"),
+    );
+    for (path, seed) in [(&a, "7"), (&b, "7"), (&c, "8")] {
+        let out = simulate(path, &["--seed", seed, "--duration-s", "6"]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    let (a, b, c) = (
+        std::fs::read(a).unwrap(),
+        std::fs::read(b).unwrap(),
+        std::fs::read(c).unwrap(),
+    );
+    assert_eq!(a, b);
+    assert_ne!(a, c);
+}
+
+#[test]
+fn existing_output_is_kept_without_force_and_bad_input_leaves_no_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("run.mcap");
+    std::fs::write(&out, b"keep me").unwrap();
+    let r = simulate(&out, &["--duration-s", "1"]);
+    assert_eq!(r.status.code(), Some(1));
+    assert_eq!(std::fs::read(&out).unwrap(), b"keep me");
+    let r = simulate(&out, &["--duration-s", "1", "--force"]);
+    assert!(r.status.success());
+    assert_ne!(std::fs::read(&out).unwrap(), b"keep me");
+
+    let bad = dir.path().join("bad.toml");
+    let text = bridgetwin::scenario::DEFAULT_SCENARIO_TOML
+        .replace("position_m = 26.25", "position_m = 31.0");
+    std::fs::write(&bad, text).unwrap();
+    let target = dir.path().join("bad.mcap");
+    let r = Command::new(env!("CARGO_BIN_EXE_bridgetwin"))
+        .arg("simulate")
+        .arg(&bad)
+        .arg("--out")
+        .arg(&target)
+        .output()
+        .unwrap();
+    assert_eq!(r.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert!(err.contains("sensors.6.position_m = 31"), "{err}");
+    assert!(!target.exists() && !dir.path().join("bad.mcap.partial").exists());
+}
+
+#[test]
+fn scenario_errors_name_the_field() {
+    let cases = [
+        (
+            "rate_hz = 200.0\n\n[[sensors]]\nid = \"A2\"",
+            "rate_hz = 5000.0\n\n[[sensors]]\nid = \"A2\"",
+            "sensors.0.rate_hz = 5000",
+        ),
+        (
+            "id = \"A2\"",
+            "id = \"A1\"",
+            "sensors.1.id = \"A1\" is used twice",
+        ),
+        (
+            "speed_m_s = 20.0",
+            "speed_m_s = -3.0",
+            "vehicles.0.speed_m_s = -3",
+        ),
+        ("span_m = 30.0", "span_m = 0.0", "bridge.span_m = 0"),
+        (
+            "dt_s = 0.001",
+            "dt_s = 0.001\nbogus = 1",
+            "unknown field `bogus`",
+        ),
+    ];
+    for (from, to, expected) in cases {
+        let text = bridgetwin::scenario::DEFAULT_SCENARIO_TOML.replacen(from, to, 1);
+        let err = Scenario::from_toml(&text, "test.toml")
+            .and_then(|s| s.resolve().map(|_| ()))
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains(expected), "{err}");
+    }
+}
