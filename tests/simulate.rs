@@ -192,7 +192,10 @@ fn events_mark_entry_and_exit_and_the_vehicle_record_has_both_times() {
     // Front axle at x = -100 m at t = 0 at 20 m/s: enters at 5 s, last axle leaves at (130 + 4.27) / 20.
     assert!((entry as f64 * 1e-9 - 5.0).abs() < 2e-3, "{entry}");
     assert!((exit as f64 * 1e-9 - 134.27 / 20.0).abs() < 2e-3, "{exit}");
-    assert!(summary.dlc.iter().all(|&(_, _, d)| d > 1.0 && d < 2.0));
+    assert!(summary
+        .dlc
+        .iter()
+        .all(|&(_, _, d, sigma)| d > 1.0 && d < 2.0 && sigma > 0.0 && sigma < 0.5));
     assert!((summary.natural_frequencies_hz[0] - 3.78).abs() < 0.01);
 }
 

@@ -93,9 +93,13 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
                     .unwrap_or(f64::NAN),
                 summary.road_description
             );
-            for (id, axle, dlc) in &summary.dlc {
-                eprintln!("vehicle {id} axle {axle}: DLC (max/static on the bridge) = {dlc:.3}");
+            for (id, axle, dlc, sigma) in &summary.dlc {
+                eprintln!("vehicle {id} axle {axle}: on the bridge, max/static = {dlc:.3}, sigma/static = {sigma:.3}");
             }
+            eprintln!(
+                "steps with a tyre in tension or lifted off: {}",
+                summary.contact_loss_steps
+            );
             if args.timings {
                 eprintln!("timings: total {wall_s:.3} s, time loop (physics + sensors + writing) {physics_s:.3} s");
             }

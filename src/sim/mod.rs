@@ -41,8 +41,8 @@ pub struct RunSummary {
     pub duration_s: f64,
     pub natural_frequencies_hz: Vec<f64>,
     pub damping_ratios: Vec<f64>,
-    /// (vehicle id, axle index, max force on the bridge / static).
-    pub dlc: Vec<(u32, u32, f64)>,
+    /// (vehicle id, axle index, max force on the bridge / static, sigma / static).
+    pub dlc: Vec<(u32, u32, f64, f64)>,
     pub contact_loss_steps: u64,
     pub road_description: String,
     pub road_csv: String,

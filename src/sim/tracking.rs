@@ -19,6 +19,8 @@ struct VehicleTrack {
     wim: Vec<Vec<Option<(u64, f64)>>>,
     wim_done: Vec<bool>,
     max_force_on_bridge_n: Vec<f64>,
+    /// Per axle: (count, sum, sum of squares) of the tyre force while on the bridge.
+    force_moments: Vec<(u64, f64, f64)>,
     losing_contact: Vec<bool>,
 }
 
@@ -49,6 +51,7 @@ impl Tracker {
                     wim: vec![vec![None; axles]; stations],
                     wim_done: vec![false; stations],
                     max_force_on_bridge_n: vec![0.0; axles],
+                    force_moments: vec![(0, 0.0, 0.0); axles],
                     losing_contact: vec![false; axles],
                 }
             })
@@ -127,8 +130,10 @@ impl Tracker {
             }
             for (j, &xj) in x.iter().enumerate() {
                 if (0.0..=self.span_m).contains(&xj) {
-                    track.max_force_on_bridge_n[j] =
-                        track.max_force_on_bridge_n[j].max(v.contact_force_n[j]);
+                    let f = v.contact_force_n[j];
+                    track.max_force_on_bridge_n[j] = track.max_force_on_bridge_n[j].max(f);
+                    let m = &mut track.force_moments[j];
+                    *m = (m.0 + 1, m.1 + f, m.2 + f * f);
                 }
                 let losing = !v.in_contact[j] || v.contact_force_n[j] < 0.0;
                 if losing != track.losing_contact[j] {
@@ -181,18 +186,24 @@ impl Tracker {
         }
     }
 
-    /// (vehicle id, axle, max tyre force on the bridge / static) for vehicles that entered.
-    pub fn dlc_ratios(&self, solver: &CoupledSolver) -> Vec<(u32, u32, f64)> {
+    /// Per axle of every vehicle that entered: (vehicle id, axle, max tyre force on the
+    /// bridge / static, standard deviation of the force on the bridge / static).
+    pub fn dlc_ratios(&self, solver: &CoupledSolver) -> Vec<(u32, u32, f64, f64)> {
         let mut out = Vec::new();
         for (v, track) in solver.vehicles.iter().zip(&self.tracks) {
             if track.entry_ns.is_none() {
                 continue;
             }
             for (j, axle) in v.dynamics.axles.iter().enumerate() {
+                let (n, sum, sum_sq) = track.force_moments[j];
+                let n = n.max(1) as f64;
+                let variance = (sum_sq / n - (sum / n).powi(2)).max(0.0);
+                let s = axle.static_load_n;
                 out.push((
                     v.id,
                     j as u32,
-                    track.max_force_on_bridge_n[j] / axle.static_load_n,
+                    track.max_force_on_bridge_n[j] / s,
+                    variance.sqrt() / s,
                 ));
             }
         }
