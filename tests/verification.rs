@@ -53,6 +53,46 @@ fn manufactured_solution() {
 }
 
 #[test]
+fn vbi_equilibrium() {
+    assert_group("vbi_equilibrium");
+}
+
+#[test]
+fn vbi_static_loads() {
+    assert_group("vbi_static_loads");
+}
+
+#[test]
+fn vbi_harmonic_response() {
+    assert_group("vbi_harmonic");
+}
+
+#[test]
+fn vbi_sprung_mass_against_the_semi_analytical_solution() {
+    assert_group("vbi_sprung_mass");
+}
+
+#[test]
+fn vbi_suspension_limits() {
+    assert_group("vbi_limits");
+}
+
+#[test]
+fn vbi_truck_against_moving_forces() {
+    assert_group("vbi_truck");
+}
+
+#[test]
+fn vbi_road_profiles() {
+    assert_group("vbi_road");
+}
+
+#[test]
+fn vbi_unilateral_contact() {
+    assert_group("vbi_contact");
+}
+
+#[test]
 fn every_group_is_tested_here() {
     // A new group must get a test above.
     let names: Vec<&str> = ladder().iter().map(|g| g.name).collect();
@@ -64,7 +104,15 @@ fn every_group_is_tested_here() {
             "newmark",
             "moving_force",
             "daf",
-            "manufactured"
+            "manufactured",
+            "vbi_equilibrium",
+            "vbi_static_loads",
+            "vbi_harmonic",
+            "vbi_sprung_mass",
+            "vbi_limits",
+            "vbi_truck",
+            "vbi_road",
+            "vbi_contact",
         ]
     );
 }

@@ -26,6 +26,7 @@ pub mod beam;
 pub mod dopri45;
 pub mod frf;
 pub mod moving_force;
+pub mod moving_mass;
 pub mod oscillator;
 pub mod road_irregularity;
 pub mod sprung_mass;

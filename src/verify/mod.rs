@@ -6,6 +6,7 @@
 
 mod beam_checks;
 mod harness;
+mod vbi_checks;
 
 use serde::Serialize;
 
@@ -14,6 +15,10 @@ pub use beam_checks::{
     static_deflection,
 };
 pub use harness::{manufactured_history, moving_force_history, ManufacturedCase, MovingForceCase};
+pub use vbi_checks::{
+    approach_equilibrium, road_profiles, sine_road_response, sprung_mass_crossing, static_loads,
+    suspension_limits, truck_vs_moving_forces, unilateral_contact,
+};
 
 /// One row of the ladder.
 #[derive(Debug, Clone, Serialize)]
@@ -110,6 +115,38 @@ pub fn ladder() -> Vec<CheckGroup> {
         CheckGroup {
             name: "manufactured",
             run: manufactured_solution,
+        },
+        CheckGroup {
+            name: "vbi_equilibrium",
+            run: approach_equilibrium,
+        },
+        CheckGroup {
+            name: "vbi_static_loads",
+            run: static_loads,
+        },
+        CheckGroup {
+            name: "vbi_harmonic",
+            run: sine_road_response,
+        },
+        CheckGroup {
+            name: "vbi_sprung_mass",
+            run: sprung_mass_crossing,
+        },
+        CheckGroup {
+            name: "vbi_limits",
+            run: suspension_limits,
+        },
+        CheckGroup {
+            name: "vbi_truck",
+            run: truck_vs_moving_forces,
+        },
+        CheckGroup {
+            name: "vbi_road",
+            run: road_profiles,
+        },
+        CheckGroup {
+            name: "vbi_contact",
+            run: unilateral_contact,
         },
     ]
 }
