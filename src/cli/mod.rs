@@ -68,6 +68,8 @@ pub struct StudyArgs {
 pub enum StudyKind {
     /// Lumped mass vs finite elements: error and cost vs n and dt (the paper's section 6).
     Discretization,
+    /// Dynamic load coefficients vs speed and road class against design codes (section 11).
+    Dlc,
 }
 
 /// Parses arguments, runs the command and maps the outcome to an exit code:
@@ -115,6 +117,7 @@ impl StudyArgs {
     fn which_name(&self) -> &'static str {
         match self.which {
             StudyKind::Discretization => "discretization",
+            StudyKind::Dlc => "dlc",
         }
     }
 }

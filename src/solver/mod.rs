@@ -2,9 +2,11 @@
 //! vehicle-bridge step.
 
 mod coupled;
+mod direct;
 mod linear;
 mod newmark;
 
 pub use coupled::{ContactLaw, CoupledSolver, CoupledVehicle, LevelRoad, RoadSurface};
+pub use direct::DirectSolver;
 pub use linear::{to_csc, Factor, Operator, SmallLu, Storage};
 pub use newmark::{Newmark, NewmarkCoefficients, NewmarkParams, SolveMode, State};

@@ -2,6 +2,7 @@
 //! figures and a `summary.md` into its output directory.
 
 pub mod discretization;
+pub mod dlc;
 mod output;
 
 use std::path::Path;
@@ -17,6 +18,7 @@ pub fn run_named(
 ) -> Result<()> {
     match name {
         "discretization" => discretization::run(out, quick, progress).map(|_| ()),
+        "dlc" => dlc::run(out, quick, progress).map(|_| ()),
         other => Err(Error::invalid(
             "study",
             other,
