@@ -73,12 +73,10 @@ pub fn prepare(resolved: &Resolved) -> Result<Prepared> {
 /// The response quantities at a point from the bridge state, output signs.
 fn quantities(
     solver: &CoupledSolver,
-    x_m: f64,
     deflection_op: &SparseVec,
     moment_op: &SparseVec,
     strain_per_moment: f64,
 ) -> Quantities {
-    let _ = x_m;
     let s = &solver.bridge.state;
     let moment = moment_op.dot(&s.u);
     [
@@ -152,10 +150,12 @@ pub fn run(
         model.point_operator(x, PointQuantity::Moment, &mut m);
         // Bending strain at the gauge: eps = M c / EI(x) (sagging M stretches the bottom).
         let strain_per_moment = 1e6 * sensor.gauge_depth_m / model.beam.ei_at_n_m2(x);
-        ops.push((x, d, m, strain_per_moment));
+        ops.push((d, m, strain_per_moment));
     }
     let max_latency_ns = taps.iter().map(|t| t.latency_ns()).max().unwrap_or(0) + resolved.dt_ns;
-    let mut merger = Merger::new(taps.len());
+    let mut merger = Merger {
+        truth: VecDeque::new(),
+    };
     let mut tracker = Tracker::new(resolved, model.span_m());
     let mut shape_ops: Vec<SparseVec> = model
         .shape_positions_m()
@@ -174,8 +174,8 @@ pub fn run(
         }
         let t_ns = step * resolved.dt_ns;
         check_finite(&solver, step, dt_s)?;
-        for (tap, (x, d, m, k)) in taps.iter_mut().zip(&ops) {
-            tap.push(&quantities(&solver, *x, d, m, *k));
+        for (tap, (d, m, k)) in taps.iter_mut().zip(&ops) {
+            tap.push(&quantities(&solver, d, m, *k));
         }
         if step % resolved.axle_stride == 0 {
             merger.truth.push_back(Record::AxleLoads {
@@ -252,12 +252,6 @@ struct Merger {
 }
 
 impl Merger {
-    fn new(_sensors: usize) -> Self {
-        Merger {
-            truth: VecDeque::new(),
-        }
-    }
-
     /// Writes every record with time <= `watermark_ns`, in time order (ties: truth first,
     /// then sensors in scenario order).
     fn release(
