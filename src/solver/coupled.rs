@@ -252,7 +252,8 @@ impl<'a> CoupledSolver<'a> {
         let span = self.model.span_m();
         for v in &mut self.vehicles {
             if !v.active && !v.retired && v.entry_step <= next {
-                v.activate(self.road, next, &coefficients)?;
+                // The equilibrium is that of the state being advanced: positions at `step`.
+                v.activate(self.road, self.step, &coefficients)?;
             }
             if v.active {
                 let last = v.dynamics.axles.len() - 1;

@@ -115,9 +115,10 @@ impl<'a> DirectSolver<'a> {
         let span = self.model.span_m();
         for (i, v) in self.vehicles.iter_mut().enumerate() {
             if !self.active[i] && !self.retired[i] && v.entry_step <= next {
-                // Static equilibrium on the road under the axles, at rest (as CoupledSolver).
+                // Static equilibrium on the road under the axles at the current step (the
+                // state being advanced), at rest (as CoupledSolver).
                 let under: Vec<f64> = (0..v.dynamics.axles.len())
-                    .map(|j| self.road.elevation_m(v.axle_x_m(j, next, dt)))
+                    .map(|j| self.road.elevation_m(v.axle_x_m(j, self.step, dt)))
                     .collect();
                 v.state = State::zeros(v.dynamics.n_dof());
                 v.state.u = v.dynamics.equilibrium_on_road(&under);
