@@ -70,7 +70,7 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
     let partial = partial_path(&args.out);
     let outcome = write_run(&mut sink, &resolved, &prepared, &original_toml);
     match outcome {
-        Ok((summary, messages, physics_s)) => {
+        Ok((summary, messages, loop_s, write_s)) => {
             let path = sink.finish()?;
             let bytes = std::fs::metadata(&path).map(|m| m.len()).unwrap_or(0);
             let wall_s = started.elapsed().as_secs_f64();
@@ -101,7 +101,7 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
                 summary.contact_loss_steps
             );
             if args.timings {
-                eprintln!("timings: total {wall_s:.3} s, time loop (physics + sensors + writing) {physics_s:.3} s");
+                print_timings(wall_s, loop_s, write_s, summary.duration_s);
             }
             Ok(())
         }
@@ -119,7 +119,8 @@ fn partial_path(out: &Path) -> PathBuf {
     PathBuf::from(name)
 }
 
-type Written = (crate::sim::RunSummary, u64, f64);
+/// What a finished run reports: summary, messages, time loop (s), writing within it (s).
+type Written = (crate::sim::RunSummary, u64, f64, f64);
 
 fn write_run(
     sink: &mut McapSink,
@@ -199,6 +200,7 @@ fn write_run(
         .map(|&w| model.rayleigh.ratio_at(w))
         .collect();
     recorder.write_modal_state(&freqs, &zetas)?;
+    recorder.flush_every(std::time::Duration::from_secs(2));
     let bar = progress_bar(resolved.steps);
     let loop_start = Instant::now();
     let summary = crate::sim::run(resolved, prepared, &mut recorder, &mut |step, _| {
@@ -210,7 +212,33 @@ fn write_run(
     if let Some(b) = bar {
         b.finish_and_clear();
     }
-    Ok((summary, recorder.messages, physics_s))
+    Ok((
+        summary,
+        recorder.messages,
+        physics_s,
+        recorder.write_time.as_secs_f64(),
+    ))
+}
+
+/// `--timings`: where the wall time went, and the peak memory.
+fn print_timings(wall_s: f64, loop_s: f64, write_s: f64, simulated_s: f64) {
+    let physics_s = loop_s - write_s;
+    eprintln!(
+        "timings: total {wall_s:.3} s = setup {:.3} s + physics and sensors {physics_s:.3} s \
+         + encoding and writing {write_s:.3} s; real-time factor {:.0}",
+        wall_s - loop_s,
+        simulated_s / wall_s
+    );
+    if let Some(kib) = peak_rss_kib() {
+        eprintln!("peak memory (VmHWM): {:.1} MiB", kib as f64 / 1024.0);
+    }
+}
+
+/// Peak resident memory of this process (Linux `/proc`; `None` elsewhere).
+fn peak_rss_kib() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    line.split_whitespace().nth(1)?.parse().ok()
 }
 
 fn progress_bar(steps: u64) -> Option<indicatif::ProgressBar> {

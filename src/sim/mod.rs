@@ -203,6 +203,7 @@ pub fn run(
     }
     tracker.finish(&solver, &mut merger.truth);
     merger.release(&mut taps, u64::MAX, recorder)?;
+    recorder.finish()?;
     progress(resolved.steps, resolved.steps);
 
     let n_modes = model.omega_rad_s.len().min(10);

@@ -99,6 +99,12 @@ impl Record {
 /// Receives the records of a run in non-decreasing time order.
 pub trait Recorder {
     fn record(&mut self, record: Record) -> crate::Result<()>;
+
+    /// Called once after the last record (and after an interrupted run's last record):
+    /// write what is still buffered.
+    fn finish(&mut self) -> crate::Result<()> {
+        Ok(())
+    }
 }
 
 /// Collects records in memory (tests, small runs).

@@ -10,6 +10,7 @@
 //! MCAP `log_time` in Unix-epoch ns; vertical displacement, velocity and acceleration are
 //! positive downward; positions are measured along the bridge from the left support.
 
+mod blocks;
 mod recorder;
 mod schema;
 mod topics;

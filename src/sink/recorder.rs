@@ -3,16 +3,18 @@
 
 use std::collections::BTreeMap;
 use std::io::{Seek, Write};
+use std::time::{Duration, Instant};
 
+use super::blocks::{ClosedBlock, OpenBlock, Pending, Reorder};
 use super::proto::foxglove::{log::Level, Log};
 use super::proto::v1::{
-    AccelerationSample, AxleLoad, AxleLoads, BridgeState, DisplacementSample, SensorTruth,
-    StrainSample, VehicleTruth, WimRecord,
+    AccelerationSample, AxleLoad, AxleLoads, BridgeState, DisplacementSample, SampleBlock,
+    SensorTruth, SensorTruthBlock, StrainSample, VehicleTruth, WimRecord,
 };
 use super::{metadata, timestamp_from_ns, ChannelId, McapSink, Topics};
 use crate::error::Result;
-use crate::scenario::{Resolved, SensorKind};
-use crate::sim::{EventLevel, Record, Recorder};
+use crate::scenario::{Layout, Resolved, SensorKind};
+use crate::sim::{EventLevel, Quantities, Record, Recorder};
 
 /// Channel of one sensor.
 struct SensorChannels {
@@ -20,6 +22,8 @@ struct SensorChannels {
     id: String,
     measured: ChannelId,
     truth: ChannelId,
+    /// Block layout only: the samples waiting to fill the next block.
+    block: Option<OpenBlock>,
 }
 
 /// A `Recorder` writing to an MCAP sink.
@@ -34,8 +38,17 @@ pub struct McapRecorder<'a, W: Write + Seek> {
     events: ChannelId,
     node_position_m: Vec<f64>,
     span_m: f64,
+    /// Block layout: records waiting until no open block starts before them.
+    reorder: Reorder,
+    closed: Vec<ClosedBlock>,
+    /// Wall-clock interval between chunk flushes (a killed run stays readable up to the
+    /// last flush); `None` flushes only at the end.
+    flush_every: Option<Duration>,
+    last_flush: Instant,
     /// Messages written.
     pub messages: u64,
+    /// Wall time spent encoding and writing (the rest of a run is physics and sensors).
+    pub write_time: Duration,
 }
 
 impl<'a, W: Write + Seek> McapRecorder<'a, W> {
@@ -46,47 +59,13 @@ impl<'a, W: Write + Seek> McapRecorder<'a, W> {
         resolved: &Resolved,
         node_position_m: Vec<f64>,
     ) -> Result<Self> {
-        let mut sensors = Vec::new();
-        for s in &resolved.sensors {
-            let spec = &s.spec;
-            let rate = format!("{}", spec.rate_hz);
-            let position = format!("{}", spec.position_m);
-            let density = format!("{}", s.noise_density);
-            let mut meta = metadata([
-                ("unit", spec.kind.unit()),
-                ("sample_rate_hz", rate.as_str()),
-                ("position_m", position.as_str()),
-                ("sensor_model", "white_noise"),
-                ("noise_density_per_sqrt_hz", density.as_str()),
-                ("sign", "downward positive (strain: tension positive)"),
-            ]);
-            if spec.kind == SensorKind::Strain {
-                meta.insert("gauge_depth_m".into(), format!("{}", s.gauge_depth_m));
-            }
-            let measured = match spec.kind {
-                SensorKind::Accelerometer => {
-                    sink.add_channel::<AccelerationSample>(&Topics::accel(&spec.id)?, meta.clone())?
-                }
-                SensorKind::Strain => {
-                    sink.add_channel::<StrainSample>(&Topics::strain(&spec.id)?, meta.clone())?
-                }
-                SensorKind::Displacement => {
-                    sink.add_channel::<DisplacementSample>(&Topics::disp(&spec.id)?, meta.clone())?
-                }
-            };
-            meta.insert(
-                "sensor_model".into(),
-                "truth (noise-free, unfiltered, true time)".into(),
-            );
-            let truth = sink.add_channel::<SensorTruth>(&Topics::truth_sensor(&spec.id)?, meta)?;
-            sensors.push(SensorChannels {
-                kind: spec.kind,
-                id: spec.id.clone(),
-                measured,
-                truth,
-            });
-        }
-        let axle_rate = format!("{}", resolved.scenario.output.axle_load_rate_hz);
+        let output = &resolved.scenario.output;
+        let sensors = resolved
+            .sensors
+            .iter()
+            .map(|s| sensor_channels(sink, s, output.layout, output.block_samples))
+            .collect::<Result<Vec<_>>>()?;
+        let axle_rate = format!("{}", output.axle_load_rate_hz);
         let axle_loads = sink.add_channel::<AxleLoads>(
             Topics::AXLE_LOADS,
             metadata([
@@ -95,7 +74,7 @@ impl<'a, W: Write + Seek> McapRecorder<'a, W> {
                 ("sign", "force on the road positive"),
             ]),
         )?;
-        let bridge_rate = format!("{}", resolved.scenario.output.bridge_state_rate_hz);
+        let bridge_rate = format!("{}", output.bridge_state_rate_hz);
         let bridge = sink.add_channel::<BridgeState>(
             Topics::BRIDGE,
             metadata([
@@ -132,8 +111,19 @@ impl<'a, W: Write + Seek> McapRecorder<'a, W> {
             events,
             node_position_m,
             span_m: resolved.scenario.bridge.span_m,
+            reorder: Reorder::default(),
+            closed: Vec::new(),
+            flush_every: None,
+            last_flush: Instant::now(),
             messages: 0,
+            write_time: Duration::ZERO,
         })
+    }
+
+    /// Closes the current chunk every `interval` of wall time, so that a run killed
+    /// midway leaves a file readable up to the last flush.
+    pub fn flush_every(&mut self, interval: Duration) {
+        self.flush_every = Some(interval);
     }
 
     /// Writes the modal state at the start on `/truth/bridge`.
@@ -154,59 +144,143 @@ impl<'a, W: Write + Seek> McapRecorder<'a, W> {
         self.messages += 1;
         self.sink.write(self.bridge, time, &msg)
     }
-}
 
-impl<W: Write + Seek> Recorder for McapRecorder<'_, W> {
-    fn record(&mut self, record: Record) -> Result<()> {
+    /// Block layout: queues `record` (sensor samples go into their blocks) and writes
+    /// whatever no open block precedes any more.
+    fn record_blocked(&mut self, record: Record) -> Result<()> {
+        match record {
+            Record::Sensor {
+                sensor,
+                t_ns,
+                measured,
+                truth,
+            } => {
+                if let Some(block) = self.sensors[sensor].block.as_mut() {
+                    block.push(sensor, t_ns, measured, &truth, &mut self.closed);
+                }
+            }
+            other => self.reorder.push(other.t_ns(), Pending::Record(other)),
+        }
+        for block in self.closed.drain(..) {
+            self.reorder.push(block.start_ns, Pending::Block(block));
+        }
+        self.release()
+    }
+
+    /// Writes queued items up to the earliest start of a block still filling.
+    fn release(&mut self) -> Result<()> {
+        let watermark = self
+            .sensors
+            .iter()
+            .filter_map(|s| s.block.as_ref()?.start_ns())
+            .min()
+            .unwrap_or(u64::MAX);
+        while let Some(item) = self.reorder.pop_until(watermark) {
+            match item {
+                Pending::Record(r) => self.write_record(r)?,
+                Pending::Block(b) => self.write_block(b)?,
+            }
+        }
+        Ok(())
+    }
+
+    fn write_block(&mut self, block: ClosedBlock) -> Result<()> {
+        let time = self.start_time_ns + block.start_ns;
+        let ts = Some(timestamp_from_ns(time));
+        let ch = &self.sensors[block.sensor];
+        let period = ch.block.as_ref().map_or(0, OpenBlock::period_ns_rounded);
+        let (quantity, unit) = match ch.kind {
+            SensorKind::Accelerometer => ("acceleration", "m/s^2"),
+            SensorKind::Strain => ("strain", "microstrain"),
+            SensorKind::Displacement => ("displacement", "m"),
+        };
+        let measured = SampleBlock {
+            timestamp: ts,
+            sample_period_ns: period,
+            quantity: quantity.into(),
+            unit: unit.into(),
+            values: block.measured,
+        };
+        let [displacement_m, velocity_m_s, acceleration_m_s2, strain_microstrain, moment_n_m] =
+            block.truth;
+        let truth = SensorTruthBlock {
+            timestamp: ts,
+            sample_period_ns: period,
+            sensor_id: ch.id.clone(),
+            displacement_m,
+            velocity_m_s,
+            acceleration_m_s2,
+            strain_microstrain,
+            moment_n_m,
+        };
+        let (measured_ch, truth_ch) = (ch.measured, ch.truth);
+        self.messages += 2;
+        self.sink.write(measured_ch, time, &measured)?;
+        self.sink.write(truth_ch, time, &truth)
+    }
+
+    fn write_sensor_sample(
+        &mut self,
+        sensor: usize,
+        time: u64,
+        measured: f64,
+        truth: &Quantities,
+    ) -> Result<()> {
+        let ch = &self.sensors[sensor];
+        let timestamp = Some(timestamp_from_ns(time));
+        match ch.kind {
+            SensorKind::Accelerometer => self.sink.write(
+                ch.measured,
+                time,
+                &AccelerationSample {
+                    timestamp,
+                    acceleration_m_s2: measured,
+                },
+            )?,
+            SensorKind::Strain => self.sink.write(
+                ch.measured,
+                time,
+                &StrainSample {
+                    timestamp,
+                    strain_microstrain: measured,
+                },
+            )?,
+            SensorKind::Displacement => self.sink.write(
+                ch.measured,
+                time,
+                &DisplacementSample {
+                    timestamp,
+                    displacement_m: measured,
+                },
+            )?,
+        }
+        self.messages += 2;
+        let msg = SensorTruth {
+            timestamp,
+            sensor_id: ch.id.clone(),
+            displacement_m: truth[0],
+            velocity_m_s: truth[1],
+            acceleration_m_s2: truth[2],
+            strain_microstrain: truth[3],
+            moment_n_m: truth[4],
+        };
+        self.sink.write(ch.truth, time, &msg)
+    }
+
+    /// Writes one record as one message (sensor samples: two, measured and truth).
+    fn write_record(&mut self, record: Record) -> Result<()> {
         let time = self.start_time_ns + record.t_ns();
         let ts = Some(timestamp_from_ns(time));
-        self.messages += 1;
+        if !matches!(record, Record::Sensor { .. }) {
+            self.messages += 1;
+        }
         match record {
             Record::Sensor {
                 sensor,
                 measured,
                 truth,
                 ..
-            } => {
-                let ch = &self.sensors[sensor];
-                match ch.kind {
-                    SensorKind::Accelerometer => self.sink.write(
-                        ch.measured,
-                        time,
-                        &AccelerationSample {
-                            timestamp: ts,
-                            acceleration_m_s2: measured,
-                        },
-                    )?,
-                    SensorKind::Strain => self.sink.write(
-                        ch.measured,
-                        time,
-                        &StrainSample {
-                            timestamp: ts,
-                            strain_microstrain: measured,
-                        },
-                    )?,
-                    SensorKind::Displacement => self.sink.write(
-                        ch.measured,
-                        time,
-                        &DisplacementSample {
-                            timestamp: ts,
-                            displacement_m: measured,
-                        },
-                    )?,
-                }
-                self.messages += 1;
-                let msg = SensorTruth {
-                    timestamp: ts,
-                    sensor_id: ch.id.clone(),
-                    displacement_m: truth[0],
-                    velocity_m_s: truth[1],
-                    acceleration_m_s2: truth[2],
-                    strain_microstrain: truth[3],
-                    moment_n_m: truth[4],
-                };
-                self.sink.write(ch.truth, time, &msg)
-            }
+            } => self.write_sensor_sample(sensor, time, measured, &truth),
             Record::AxleLoads { axles, .. } => {
                 let axles = axles
                     .iter()
@@ -220,14 +294,11 @@ impl<W: Write + Seek> Recorder for McapRecorder<'_, W> {
                         on_bridge: a.on_bridge,
                     })
                     .collect();
-                self.sink.write(
-                    self.axle_loads,
-                    time,
-                    &AxleLoads {
-                        timestamp: ts,
-                        axles,
-                    },
-                )
+                let msg = AxleLoads {
+                    timestamp: ts,
+                    axles,
+                };
+                self.sink.write(self.axle_loads, time, &msg)
             }
             Record::BridgeShape { deflection_m, .. } => {
                 let mid = self.span_m / 2.0;
@@ -296,6 +367,104 @@ impl<W: Write + Seek> Recorder for McapRecorder<'_, W> {
             }
         }
     }
+
+    fn flush_if_due(&mut self) -> Result<()> {
+        if let Some(interval) = self.flush_every {
+            // Checking the clock every 1024 messages keeps its cost out of the profile.
+            if self.messages % 1024 < 2 && self.last_flush.elapsed() >= interval {
+                self.sink.flush()?;
+                self.last_flush = Instant::now();
+            }
+        }
+        Ok(())
+    }
+}
+
+impl<W: Write + Seek> Recorder for McapRecorder<'_, W> {
+    fn record(&mut self, record: Record) -> Result<()> {
+        let started = Instant::now();
+        let outcome = if self.sensors.iter().any(|s| s.block.is_some()) {
+            self.record_blocked(record)
+        } else {
+            self.write_record(record)
+        };
+        let outcome = outcome.and_then(|()| self.flush_if_due());
+        self.write_time += started.elapsed();
+        outcome
+    }
+
+    /// Writes the partly filled blocks and everything still queued.
+    fn finish(&mut self) -> Result<()> {
+        for (i, s) in self.sensors.iter_mut().enumerate() {
+            if let Some(block) = s.block.as_mut() {
+                self.closed.extend(block.take(i));
+            }
+        }
+        for block in self.closed.drain(..) {
+            self.reorder.push(block.start_ns, Pending::Block(block));
+        }
+        self.release()
+    }
+}
+
+/// Registers the measured and truth channels of one sensor in the chosen layout.
+fn sensor_channels<W: Write + Seek>(
+    sink: &mut McapSink<W>,
+    sensor: &crate::scenario::ResolvedSensor,
+    layout: Layout,
+    block_samples: usize,
+) -> Result<SensorChannels> {
+    let spec = &sensor.spec;
+    let rate = format!("{}", spec.rate_hz);
+    let position = format!("{}", spec.position_m);
+    let density = format!("{}", sensor.noise_density);
+    let layout_name = match layout {
+        Layout::Sample => "sample".to_string(),
+        Layout::Block => format!("block of {block_samples} samples"),
+    };
+    let mut meta = metadata([
+        ("unit", spec.kind.unit()),
+        ("sample_rate_hz", rate.as_str()),
+        ("position_m", position.as_str()),
+        ("sensor_model", "white_noise"),
+        ("noise_density_per_sqrt_hz", density.as_str()),
+        ("sign", "downward positive (strain: tension positive)"),
+        ("layout", layout_name.as_str()),
+    ]);
+    if spec.kind == SensorKind::Strain {
+        meta.insert("gauge_depth_m".into(), format!("{}", sensor.gauge_depth_m));
+    }
+    let topic = match spec.kind {
+        SensorKind::Accelerometer => Topics::accel(&spec.id)?,
+        SensorKind::Strain => Topics::strain(&spec.id)?,
+        SensorKind::Displacement => Topics::disp(&spec.id)?,
+    };
+    let measured = match (layout, spec.kind) {
+        (Layout::Block, _) => sink.add_channel::<SampleBlock>(&topic, meta.clone())?,
+        (_, SensorKind::Accelerometer) => {
+            sink.add_channel::<AccelerationSample>(&topic, meta.clone())?
+        }
+        (_, SensorKind::Strain) => sink.add_channel::<StrainSample>(&topic, meta.clone())?,
+        (_, SensorKind::Displacement) => {
+            sink.add_channel::<DisplacementSample>(&topic, meta.clone())?
+        }
+    };
+    meta.insert(
+        "sensor_model".into(),
+        "truth (noise-free, unfiltered, true time)".into(),
+    );
+    let truth_topic = Topics::truth_sensor(&spec.id)?;
+    let truth = match layout {
+        Layout::Sample => sink.add_channel::<SensorTruth>(&truth_topic, meta)?,
+        Layout::Block => sink.add_channel::<SensorTruthBlock>(&truth_topic, meta)?,
+    };
+    Ok(SensorChannels {
+        kind: spec.kind,
+        id: spec.id.clone(),
+        measured,
+        truth,
+        block: (layout == Layout::Block).then(|| OpenBlock::new(spec.rate_hz, block_samples)),
+    })
 }
 
 /// Axle groups: axles closer than 2.1 m form a group ("1-1", "1-2", ...; SENSORS.md 3).

@@ -1,0 +1,213 @@
+//! The block layout: consecutive samples of one sensor packed into one message, as a DAQ
+//! node sends packets (`SampleBlock`, `SensorTruthBlock`).
+//!
+//! A block is stamped with its first sample's time but can only be written once its last
+//! sample is known, while other records (axle loads, events, other sensors) keep coming in
+//! time order. MCAP files must stay in log-time order, so finished blocks and every other
+//! record wait in a small reorder buffer: an item is released once no open block starts
+//! before it. The buffer holds at most one block duration of records.
+
+use std::collections::BTreeMap;
+
+use crate::sim::{Quantities, Record};
+
+/// Samples of one sensor waiting to fill a block.
+#[derive(Debug)]
+pub(super) struct OpenBlock {
+    /// Nominal sample spacing (ns, fractional for rates that do not divide 1 s).
+    period_ns: f64,
+    capacity: usize,
+    /// Run-relative time of the first sample (ns).
+    start_ns: u64,
+    pub measured: Vec<f64>,
+    /// Truth quantities, one vector per entry of `Quantities`.
+    pub truth: [Vec<f64>; 5],
+}
+
+/// A block ready to be written: `sensor` index, run-relative time of its first sample.
+#[derive(Debug)]
+pub(super) struct ClosedBlock {
+    pub sensor: usize,
+    pub start_ns: u64,
+    pub measured: Vec<f64>,
+    pub truth: [Vec<f64>; 5],
+}
+
+impl OpenBlock {
+    pub fn new(rate_hz: f64, capacity: usize) -> Self {
+        OpenBlock {
+            period_ns: 1e9 / rate_hz,
+            capacity,
+            start_ns: 0,
+            measured: Vec::with_capacity(capacity),
+            truth: std::array::from_fn(|_| Vec::with_capacity(capacity)),
+        }
+    }
+
+    fn len(&self) -> usize {
+        self.measured.len()
+    }
+
+    /// Time of the first sample, if the block holds any.
+    pub fn start_ns(&self) -> Option<u64> {
+        (self.len() > 0).then_some(self.start_ns)
+    }
+
+    /// Whether a sample at `t_ns` continues this block without a gap (a sample the DAQ
+    /// lost starts a new block, so `timestamp + i * period` stays true inside a block).
+    fn continues(&self, t_ns: u64) -> bool {
+        let expected = self.start_ns as f64 + self.len() as f64 * self.period_ns;
+        (t_ns as f64 - expected).abs() < 0.25 * self.period_ns
+    }
+
+    /// Adds a sample; blocks that close (interrupted by a gap before this sample, or full
+    /// with it) go to `closed`.
+    pub fn push(
+        &mut self,
+        sensor: usize,
+        t_ns: u64,
+        measured: f64,
+        truth: &Quantities,
+        closed: &mut Vec<ClosedBlock>,
+    ) {
+        if self.len() > 0 && !self.continues(t_ns) {
+            closed.extend(self.take(sensor));
+        }
+        if self.len() == 0 {
+            self.start_ns = t_ns;
+        }
+        self.measured.push(measured);
+        for (column, &value) in self.truth.iter_mut().zip(truth) {
+            column.push(value);
+        }
+        if self.len() >= self.capacity {
+            closed.extend(self.take(sensor));
+        }
+    }
+
+    /// Empties the block into a `ClosedBlock` (None when empty).
+    pub fn take(&mut self, sensor: usize) -> Option<ClosedBlock> {
+        if self.len() == 0 {
+            return None;
+        }
+        let fresh = || Vec::with_capacity(self.capacity);
+        Some(ClosedBlock {
+            sensor,
+            start_ns: self.start_ns,
+            measured: std::mem::replace(&mut self.measured, fresh()),
+            truth: std::array::from_fn(|k| std::mem::replace(&mut self.truth[k], fresh())),
+        })
+    }
+
+    /// Nominal spacing of the samples rounded to whole ns (what the message carries).
+    pub fn period_ns_rounded(&self) -> u64 {
+        self.period_ns.round() as u64
+    }
+}
+
+/// Something waiting for its turn in the file.
+#[derive(Debug)]
+pub(super) enum Pending {
+    Record(Record),
+    Block(ClosedBlock),
+}
+
+/// Items keyed by (run-relative time, arrival order): ties keep arrival order.
+#[derive(Debug, Default)]
+pub(super) struct Reorder {
+    items: BTreeMap<(u64, u64), Pending>,
+    arrivals: u64,
+}
+
+impl Reorder {
+    pub fn push(&mut self, t_ns: u64, item: Pending) {
+        self.items.insert((t_ns, self.arrivals), item);
+        self.arrivals += 1;
+    }
+
+    /// Removes and returns the earliest item if its time is <= `watermark_ns`.
+    pub fn pop_until(&mut self, watermark_ns: u64) -> Option<Pending> {
+        let entry = self.items.first_entry()?;
+        if entry.key().0 > watermark_ns {
+            return None;
+        }
+        Some(entry.remove())
+    }
+
+    #[cfg(test)]
+    pub fn len(&self) -> usize {
+        self.items.len()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn push_all(block: &mut OpenBlock, times: &[u64]) -> Vec<ClosedBlock> {
+        let mut closed = Vec::new();
+        for (i, &t) in times.iter().enumerate() {
+            block.push(0, t, i as f64, &[i as f64; 5], &mut closed);
+        }
+        closed
+    }
+
+    #[test]
+    fn full_blocks_close_at_capacity() {
+        let mut block = OpenBlock::new(200.0, 3);
+        let times: Vec<u64> = (0..7).map(|k| k * 5_000_000).collect();
+        let closed = push_all(&mut block, &times);
+        assert_eq!(closed.len(), 2);
+        assert_eq!(closed[0].measured, [0.0, 1.0, 2.0]);
+        assert_eq!(closed[1].start_ns, 15_000_000);
+        assert_eq!(closed[1].truth[4], [3.0, 4.0, 5.0]);
+        let rest = block.take(0).unwrap();
+        assert_eq!((rest.start_ns, rest.measured.len()), (30_000_000, 1));
+        assert!(block.take(0).is_none());
+    }
+
+    #[test]
+    fn a_gap_closes_the_block_early() {
+        let mut block = OpenBlock::new(200.0, 4);
+        // Samples 0, 1, then 3 (2 lost), 4, 5, 6.
+        let times: Vec<u64> = [0, 1, 3, 4, 5, 6].iter().map(|k| k * 5_000_000).collect();
+        let closed = push_all(&mut block, &times);
+        assert_eq!(closed.len(), 2);
+        assert_eq!(closed[0].measured, [0.0, 1.0]);
+        assert_eq!(closed[1].start_ns, 15_000_000);
+        assert_eq!(closed[1].measured.len(), 4);
+    }
+
+    #[test]
+    fn fractional_periods_do_not_accumulate_into_false_gaps() {
+        // 300 Hz: 3 333 333.3 ns; sample times are rounded to whole ns by the DAQ clock.
+        let mut block = OpenBlock::new(300.0, 1000);
+        let times: Vec<u64> = (0..1000u64)
+            .map(|k| (k as f64 * 1e9 / 300.0).round() as u64)
+            .collect();
+        let closed = push_all(&mut block, &times);
+        assert_eq!(closed.len(), 1);
+        assert_eq!(closed[0].measured.len(), 1000);
+    }
+
+    #[test]
+    fn reorder_releases_in_time_then_arrival_order() {
+        let mut r = Reorder::default();
+        let event = |t| {
+            Pending::Record(Record::Event {
+                t_ns: t,
+                level: crate::sim::EventLevel::Info,
+                text: format!("{t}"),
+            })
+        };
+        r.push(20, event(20));
+        r.push(10, event(10));
+        r.push(10, event(11));
+        let mut out = Vec::new();
+        while let Some(Pending::Record(Record::Event { text, .. })) = r.pop_until(15) {
+            out.push(text);
+        }
+        assert_eq!(out, ["10", "11"]);
+        assert_eq!(r.len(), 1);
+    }
+}
