@@ -35,6 +35,8 @@ from typing import Any, Iterable
 import numpy as np
 from google.protobuf.descriptor import FieldDescriptor
 from mcap.reader import make_reader
+from mcap.records import Channel, Message, Schema
+from mcap.stream_reader import StreamReader
 from mcap_protobuf.decoder import DecoderFactory
 
 # SampleBlock.quantity -> name of the same column in the per-sample messages.
@@ -57,12 +59,51 @@ def load_run(path: str, prefixes: Iterable[str] = SENSOR_PREFIXES) -> dict[str, 
     return load_topics(path, [t for t in list_topics(path) if t.startswith(prefixes)])
 
 
-def list_topics(path: str) -> list[str]:
-    """Topic names of the file, sorted."""
+def _summary_or_none(path: str):
+    """The summary section, or None when the file has none (a run killed mid-write)."""
     with open(path, "rb") as f:
-        summary = make_reader(f).get_summary()
+        try:
+            return make_reader(f).get_summary()
+        except Exception:  # noqa: BLE001 - any damage in the footer means "no summary"
+            return None
+
+
+def iter_intact_messages(path: str, topics: Iterable[str] | None = None):
+    """(channel, message, decoded) of every message before the first damaged record.
+
+    For a `.partial` file of a killed run: its data up to the last periodic flush. A note
+    on stderr says where the intact part ends."""
+    wanted = None if topics is None else set(topics)
+    schemas: dict[int, Schema] = {}
+    channels: dict[int, Channel] = {}
+    decoders: dict[int, Any] = {}
+    factory = DecoderFactory()
+    count = 0
+    with open(path, "rb") as f:
+        try:
+            for record in StreamReader(f).records:
+                if isinstance(record, Schema):
+                    schemas[record.id] = record
+                elif isinstance(record, Channel):
+                    channels[record.id] = record
+                elif isinstance(record, Message):
+                    channel = channels[record.channel_id]
+                    if wanted is not None and channel.topic not in wanted:
+                        continue
+                    if record.channel_id not in decoders:
+                        schema = schemas.get(channel.schema_id)
+                        decoders[record.channel_id] = factory.decoder_for(channel.message_encoding, schema)
+                    count += 1
+                    yield channel, record, decoders[record.channel_id](record.data)
+        except Exception as e:  # noqa: BLE001 - the damaged tail of an interrupted file
+            print(f"{path}: intact up to message {count}; then {type(e).__name__}", file=sys.stderr)
+
+
+def list_topics(path: str) -> list[str]:
+    """Topic names of the file, sorted (a file without summary is scanned)."""
+    summary = _summary_or_none(path)
     if summary is None:
-        raise ValueError(f"{path}: no summary section (an unfinished .partial file?)")
+        return sorted({c.topic for c, _, _ in iter_intact_messages(path)})
     return sorted({c.topic for c in summary.channels.values()})
 
 
@@ -71,21 +112,29 @@ def load_topics(path: str, topics: list[str]) -> dict[str, dict[str, np.ndarray]
     rows: dict[str, list[dict]] = {t: [] for t in topics}
     # Rows of repeated message fields: {topic: {field name: rows}}.
     nested: dict[str, dict[str, list[dict]]] = {t: defaultdict(list) for t in topics}
-    with open(path, "rb") as f:
-        reader = make_reader(f, decoder_factories=[DecoderFactory()])
-        summary = reader.get_summary()
-        start_ns = summary.statistics.message_start_time if summary and summary.statistics else None
-        if summary is not None:
-            known = {c.topic for c in summary.channels.values()}
-            missing = sorted(set(topics) - known)
-            if missing:
-                raise ValueError(f"{path}: no topic {missing}; topics: {sorted(known)}")
-        for _, channel, message, decoded in reader.iter_decoded_messages(topics=topics):
-            _add_message(rows[channel.topic], nested[channel.topic], decoded, message.log_time)
+    summary = _summary_or_none(path)
+    start_ns = summary.statistics.message_start_time if summary and summary.statistics else None
+    if summary is None:
+        messages = iter_intact_messages(path, topics)
+    else:
+        known = {c.topic for c in summary.channels.values()}
+        missing = sorted(set(topics) - known)
+        if missing:
+            raise ValueError(f"{path}: no topic {missing}; topics: {sorted(known)}")
+        messages = _iter_indexed(path, topics)
+    for channel, message, decoded in messages:
+        _add_message(rows[channel.topic], nested[channel.topic], decoded, message.log_time)
     first = [r[0]["log_time_ns"] for r in rows.values() if r]
     if start_ns is None:
         start_ns = min(first, default=0)
     return {t: _to_arrays(rows[t], nested[t], start_ns) for t in topics}
+
+
+def _iter_indexed(path: str, topics: list[str]):
+    with open(path, "rb") as f:
+        reader = make_reader(f, decoder_factories=[DecoderFactory()])
+        for _, channel, message, decoded in reader.iter_decoded_messages(topics=topics):
+            yield channel, message, decoded
 
 
 def _add_message(rows: list[dict], nested: dict[str, list[dict]], msg: Any, log_time_ns: int) -> None:
@@ -201,16 +250,24 @@ def _describe(name: str, array: np.ndarray) -> str:
 
 def print_summary(path: str) -> None:
     """Prints the header, metadata, attachments and per-topic counts of a run."""
+    summary = _summary_or_none(path)
+    if summary is None:
+        counts: dict[str, int] = defaultdict(int)
+        for channel, _, _ in iter_intact_messages(path):
+            counts[channel.topic] += 1
+        print(f"{path}: no summary section (interrupted run); intact messages per topic:")
+        for topic, count in sorted(counts.items()):
+            print(f"  {topic:36s} {count:8d}")
+        return
     with open(path, "rb") as f:
         reader = make_reader(f)
-        summary = reader.get_summary()
         print(f"{path}: written by {reader.get_header().library}")
         for record in reader.iter_metadata():
             print(f"metadata {record.name}: {', '.join(sorted(record.metadata))}")
         for attachment in reader.iter_attachments():
             print(f"attachment {attachment.name} ({attachment.media_type}, {len(attachment.data)} B)")
-    if summary is None or summary.statistics is None:
-        print("no summary section")
+    if summary.statistics is None:
+        print("no statistics record")
         return
     stats = summary.statistics
     duration_s = (stats.message_end_time - stats.message_start_time) * 1e-9

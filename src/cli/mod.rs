@@ -1,6 +1,7 @@
 //! Command-line interface: argument parsing, dispatch, printing, exit codes. The only
 //! module that prints.
 
+mod from_mcap;
 mod simulate_cmd;
 mod verify_cmd;
 
@@ -73,7 +74,7 @@ pub enum StudyKind {
 }
 
 /// Parses arguments, runs the command and maps the outcome to an exit code:
-/// 0 ok, 1 error (or failed verification), 2 usage.
+/// 0 ok, 1 error (or failed verification), 2 usage, 130 stopped by SIGINT/SIGTERM.
 pub fn main() -> ExitCode {
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
@@ -106,6 +107,11 @@ pub fn main() -> ExitCode {
     match outcome {
         Ok(true) => ExitCode::SUCCESS,
         Ok(false) => ExitCode::from(1),
+        Err(e) if e.is::<simulate_cmd::Interrupted>() => {
+            eprintln!("{e:#}");
+            // 128 + SIGINT, the shell convention for a run stopped by the user.
+            ExitCode::from(130)
+        }
         Err(e) => {
             eprintln!("error: {e:#}");
             ExitCode::from(1)

@@ -3,6 +3,8 @@
 use std::collections::BTreeMap;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
 use std::time::Instant;
 
 use anyhow::{Context, Result};
@@ -14,7 +16,11 @@ use crate::sink::{McapRecorder, McapSink, SinkOptions};
 #[derive(Debug, clap::Args)]
 pub struct SimulateArgs {
     /// Scenario TOML (default: the embedded default scenario).
+    #[arg(conflicts_with = "from")]
     pub scenario: Option<PathBuf>,
+    /// Re-run the scenario stored in a bridgetwin MCAP file (same seed: same bytes).
+    #[arg(long, value_name = "FILE.mcap")]
+    pub from: Option<PathBuf>,
     /// Output MCAP file (written as FILE.partial, renamed on success).
     #[arg(long)]
     pub out: PathBuf,
@@ -48,10 +54,35 @@ pub fn load_scenario(path: Option<&Path>) -> Result<(Scenario, String)> {
     }
 }
 
+/// The run was stopped by SIGINT or SIGTERM; the file was kept as `.partial`.
+#[derive(Debug, thiserror::Error)]
+#[error("interrupted at t = {stopped_at_s:.3} s: kept the data written so far in {partial}")]
+pub struct Interrupted {
+    pub stopped_at_s: f64,
+    pub partial: String,
+}
+
+/// Sets a flag on SIGINT and SIGTERM so that the time loop stops cleanly; a second
+/// signal ends the process at once (exit 1, `.partial` left as is).
+fn stop_on_signals() -> Result<Arc<AtomicBool>> {
+    use signal_hook::consts::{SIGINT, SIGTERM};
+    let stop = Arc::new(AtomicBool::new(false));
+    for signal in [SIGINT, SIGTERM] {
+        signal_hook::flag::register_conditional_shutdown(signal, 1, Arc::clone(&stop))
+            .context("installing the signal handler")?;
+        signal_hook::flag::register(signal, Arc::clone(&stop))
+            .context("installing the signal handler")?;
+    }
+    Ok(stop)
+}
+
 /// Runs `simulate`.
 pub fn run(args: &SimulateArgs) -> Result<()> {
     let started = Instant::now();
-    let (mut scenario, original_toml) = load_scenario(args.scenario.as_deref())?;
+    let (mut scenario, original_toml) = match &args.from {
+        Some(run) => super::from_mcap::scenario_from_mcap(run)?,
+        None => load_scenario(args.scenario.as_deref())?,
+    };
     if let Some(seed) = args.seed {
         scenario.seed = seed;
     }
@@ -68,8 +99,17 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
         },
     )?;
     let partial = partial_path(&args.out);
-    let outcome = write_run(&mut sink, &resolved, &prepared, &original_toml);
+    let stop = stop_on_signals()?;
+    let outcome = write_run(&mut sink, &resolved, &prepared, &original_toml, &stop);
     match outcome {
+        Ok((summary, _, _, _)) if summary.stopped_at_s.is_some() => {
+            let partial = sink.finish_partial()?;
+            Err(Interrupted {
+                stopped_at_s: summary.stopped_at_s.unwrap_or(0.0),
+                partial: partial.display().to_string(),
+            }
+            .into())
+        }
         Ok((summary, messages, loop_s, write_s)) => {
             let path = sink.finish()?;
             let bytes = std::fs::metadata(&path).map(|m| m.len()).unwrap_or(0);
@@ -127,6 +167,7 @@ fn write_run(
     resolved: &crate::scenario::Resolved,
     prepared: &crate::sim::Prepared,
     original_toml: &str,
+    stop: &AtomicBool,
 ) -> Result<Written> {
     let s = &resolved.scenario;
     let start = resolved.start_time_ns;
@@ -203,11 +244,16 @@ fn write_run(
     recorder.flush_every(std::time::Duration::from_secs(2));
     let bar = progress_bar(resolved.steps);
     let loop_start = Instant::now();
-    let summary = crate::sim::run(resolved, prepared, &mut recorder, &mut |step, _| {
+    let mut progress = |step, _| {
         if let Some(b) = &bar {
             b.set_position(step);
         }
-    })?;
+    };
+    let mut control = crate::sim::Control {
+        progress: &mut progress,
+        stop: Some(stop),
+    };
+    let summary = crate::sim::run_controlled(resolved, prepared, &mut recorder, &mut control)?;
     let physics_s = loop_start.elapsed().as_secs_f64();
     if let Some(b) = bar {
         b.finish_and_clear();

@@ -9,6 +9,7 @@ mod tap;
 mod tracking;
 
 use std::collections::VecDeque;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use crate::bridge::{BridgeModel, ModelSpec, PointQuantity, SparseVec};
 use crate::error::{Error, Result};
@@ -46,6 +47,17 @@ pub struct RunSummary {
     pub contact_loss_steps: u64,
     pub road_description: String,
     pub road_csv: String,
+    /// Simulated time at which a stop request ended the run early (s).
+    pub stopped_at_s: Option<f64>,
+}
+
+/// How the caller follows and steers a run.
+pub struct Control<'a> {
+    /// Called every few thousand steps with (step, steps).
+    pub progress: &'a mut dyn FnMut(u64, u64),
+    /// Checked every step: when set, the run stops, writes what it has (an `/events`
+    /// entry says where) and returns normally with `stopped_at_s`.
+    pub stop: Option<&'a AtomicBool>,
 }
 
 /// Everything built before the time loop.
@@ -103,6 +115,20 @@ pub fn run(
     prepared: &Prepared,
     recorder: &mut dyn Recorder,
     progress: &mut dyn FnMut(u64, u64),
+) -> Result<RunSummary> {
+    let mut control = Control {
+        progress,
+        stop: None,
+    };
+    run_controlled(resolved, prepared, recorder, &mut control)
+}
+
+/// [`run`] with a stop flag (set by a signal handler, a GUI, a time limit).
+pub fn run_controlled(
+    resolved: &Resolved,
+    prepared: &Prepared,
+    recorder: &mut dyn Recorder,
+    control: &mut Control,
 ) -> Result<RunSummary> {
     let s = &resolved.scenario;
     let model = &prepared.model;
@@ -168,8 +194,13 @@ pub fn run(
         .collect();
     shape_ops.shrink_to_fit();
 
+    let mut stopped_at = None;
     for step in 0..=resolved.steps {
         if step > 0 {
+            if control.stop.is_some_and(|flag| flag.load(Ordering::Relaxed)) {
+                stopped_at = Some(step - 1);
+                break;
+            }
             solver.advance()?;
         }
         let t_ns = step * resolved.dt_ns;
@@ -195,21 +226,33 @@ pub fn run(
         tracker.observe(&solver, step, &mut merger.truth);
         merger.release(&mut taps, t_ns.saturating_sub(max_latency_ns), recorder)?;
         if step % 5000 == 0 {
-            progress(step, resolved.steps);
+            (control.progress)(step, resolved.steps);
         }
     }
     for tap in &mut taps {
         tap.flush();
     }
     tracker.finish(&solver, &mut merger.truth);
+    if let Some(step) = stopped_at {
+        merger.truth.push_back(Record::Event {
+            t_ns: step * resolved.dt_ns,
+            level: EventLevel::Warning,
+            text: format!(
+                "run stopped on request at t = {:.3} s (step {step} of {}): the data ends here",
+                step as f64 * dt_s,
+                resolved.steps
+            ),
+        });
+    }
     merger.release(&mut taps, u64::MAX, recorder)?;
     recorder.finish()?;
-    progress(resolved.steps, resolved.steps);
+    let steps_done = stopped_at.unwrap_or(resolved.steps);
+    (control.progress)(steps_done, resolved.steps);
 
     let n_modes = model.omega_rad_s.len().min(10);
     Ok(RunSummary {
-        steps: resolved.steps,
-        duration_s: resolved.duration_s(),
+        steps: steps_done,
+        duration_s: steps_done as f64 * dt_s,
         natural_frequencies_hz: (1..=n_modes).map(|n| model.frequency_hz(n)).collect(),
         damping_ratios: model
             .omega_rad_s
@@ -221,6 +264,7 @@ pub fn run(
         contact_loss_steps: solver.vehicles.iter().map(|v| v.contact_loss_steps).sum(),
         road_description: prepared.road.describe().to_string(),
         road_csv: prepared.road.to_csv(),
+        stopped_at_s: stopped_at.map(|step| step as f64 * dt_s),
     })
 }
 
