@@ -51,12 +51,27 @@ impl Error {
     }
 }
 
+/// `value` for a message: as `Display` (`0.001`, `-3`, `NaN`, `inf`), unless that takes
+/// more than 24 characters (`1e-300` would print 302), then in exponent form (`1e-300`).
+pub fn num(value: f64) -> String {
+    let plain = value.to_string();
+    if plain.len() > 24 {
+        format!("{value:e}")
+    } else {
+        plain
+    }
+}
+
 /// Checks that `value` is finite and strictly positive.
 pub fn require_positive(field: &str, value: f64) -> Result<f64> {
     if value.is_finite() && value > 0.0 {
         Ok(value)
     } else {
-        Err(Error::invalid(field, value, "must be a finite number > 0"))
+        Err(Error::invalid(
+            field,
+            num(value),
+            "must be a finite number > 0",
+        ))
     }
 }
 
@@ -65,7 +80,11 @@ pub fn require_non_negative(field: &str, value: f64) -> Result<f64> {
     if value.is_finite() && value >= 0.0 {
         Ok(value)
     } else {
-        Err(Error::invalid(field, value, "must be a finite number >= 0"))
+        Err(Error::invalid(
+            field,
+            num(value),
+            "must be a finite number >= 0",
+        ))
     }
 }
 
@@ -74,6 +93,28 @@ pub fn require_finite(field: &str, value: f64) -> Result<f64> {
     if value.is_finite() {
         Ok(value)
     } else {
-        Err(Error::invalid(field, value, "must be a finite number"))
+        Err(Error::invalid(field, num(value), "must be a finite number"))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_stay_short_in_messages() {
+        assert_eq!(num(0.001), "0.001");
+        assert_eq!(num(-0.000001), "-0.000001");
+        assert_eq!(num(f64::NAN), "NaN");
+        assert_eq!(num(f64::NEG_INFINITY), "-inf");
+        assert_eq!(num(1e-300), "1e-300");
+        assert_eq!(num(-2.5e300), "-2.5e300");
+        let e = require_positive("bridge.span_m", 1e300).map(|_| ());
+        assert!(e.is_ok());
+        let e = require_positive("bridge.span_m", -1e-300).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "bridge.span_m = -1e-300 must be a finite number > 0"
+        );
     }
 }

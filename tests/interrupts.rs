@@ -80,8 +80,7 @@ fn sigint_and_sigterm_finish_a_readable_partial_file_and_exit_130() {
         let output = {
             let status = child.wait().unwrap();
             let mut stderr = String::new();
-            std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut stderr)
-                .unwrap();
+            std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut stderr).unwrap();
             (status, stderr)
         };
         let stopped_in = sent.elapsed();
@@ -148,7 +147,12 @@ fn the_stored_scenario_reruns_to_the_same_bytes() {
         "--out".as_ref(),
         first.as_ref(),
     ]);
-    run(&["--from".as_ref(), first.as_ref(), "--out".as_ref(), again.as_ref()]);
+    run(&[
+        "--from".as_ref(),
+        first.as_ref(),
+        "--out".as_ref(),
+        again.as_ref(),
+    ]);
     assert!(
         std::fs::read(&first).unwrap() == std::fs::read(&again).unwrap(),
         "--from must reproduce the file byte for byte"

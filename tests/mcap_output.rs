@@ -555,3 +555,51 @@ fn channel_ids_from_another_sink_are_rejected() {
     let msg = v1::StrainSample::default();
     assert!(small.write(foreign, START_NS, &msg).is_err());
 }
+
+/// A disk that fills up after `capacity` bytes: writes past it fail with ENOSPC, as on a
+/// full file system (`/dev/full` fails every write, which cannot be opened as `.partial`).
+struct FullDisk {
+    inner: std::io::Cursor<Vec<u8>>,
+    capacity: usize,
+}
+
+impl Write for FullDisk {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        if self.inner.position() as usize + buf.len() > self.capacity {
+            return Err(std::io::Error::from_raw_os_error(28)); // ENOSPC
+        }
+        self.inner.write(buf)
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
+}
+
+impl Seek for FullDisk {
+    fn seek(&mut self, pos: std::io::SeekFrom) -> std::io::Result<u64> {
+        self.inner.seek(pos)
+    }
+}
+
+#[test]
+fn a_full_disk_is_an_error_naming_the_output() {
+    // A run of the default scenario needs ~1.3 MB; the disk holds 200 kB.
+    let resolved = bridgetwin::scenario::Scenario::default_scenario()
+        .resolve()
+        .unwrap();
+    let prepared = bridgetwin::sim::prepare(&resolved).unwrap();
+    let disk = FullDisk {
+        inner: std::io::Cursor::new(Vec::new()),
+        capacity: 200_000,
+    };
+    let mut sink = McapSink::on_writer(disk, &SinkOptions::default(), "full.mcap").unwrap();
+    let nodes = prepared.model.shape_positions_m().to_vec();
+    let mut recorder = bridgetwin::sink::McapRecorder::new(&mut sink, &resolved, nodes).unwrap();
+    let err = bridgetwin::sim::run(&resolved, &prepared, &mut recorder, &mut |_, _| {})
+        .expect_err("the disk fills up");
+    let text = err.to_string();
+    assert!(
+        text.contains("full.mcap") && text.contains("No space left on device"),
+        "{text}"
+    );
+}

@@ -297,3 +297,34 @@ fn scenario_errors_name_the_field() {
         assert!(err.contains(expected), "{err}");
     }
 }
+
+#[test]
+fn a_diverging_run_stops_naming_time_step_quantity_and_a_hint() {
+    // Newmark with beta < gamma / 2 is only conditionally stable: the highest modes of a
+    // 30-element FE model (omega dt far above the limit 1/sqrt(gamma/2 - beta) = 2.6)
+    // blow up as soon as the truck excites the bridge.
+    let dir = tempfile::tempdir().unwrap();
+    let text = bridgetwin::scenario::DEFAULT_SCENARIO_TOML.replace(
+        "[solver]",
+        "[solver]\nnewmark = { gamma = 0.5, beta = 0.1 }",
+    );
+    let scenario = dir.path().join("unstable.toml");
+    std::fs::write(&scenario, text).unwrap();
+    let out_path = dir.path().join("run.mcap");
+    let out = simulate(&out_path, &[scenario.to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    for needle in [
+        "divergence at t = ",
+        "(step ",
+        "bridge deflection (m) = ",
+        "solver.newmark (gamma = 0.5, beta = 0.1) is only conditionally stable",
+    ] {
+        assert!(stderr.contains(needle), "{needle:?} missing from {stderr}");
+    }
+    assert_eq!(
+        std::fs::read_dir(dir.path()).unwrap().count(),
+        1,
+        "only the scenario is left"
+    );
+}

@@ -84,14 +84,32 @@ impl BeamProperties {
         self.stiffness_regions.iter().all(|r| r.ei_factor == 1.0)
     }
 
-    /// Mean EI over [a, b] (exact for the piecewise-constant regions).
+    /// Mean EI over [a, b] (exact for the piecewise-constant regions). Where regions
+    /// overlap their factors multiply, as in [`Self::ei_at_n_m2`].
     pub fn mean_ei_n_m2(&self, a_m: f64, b_m: f64) -> f64 {
         let length = b_m - a_m;
-        let mut factor_integral = length;
-        for r in &self.stiffness_regions {
-            let overlap = (b_m.min(r.end_m) - a_m.max(r.start_m)).max(0.0);
-            factor_integral += overlap * (r.ei_factor - 1.0);
-        }
+        // The factor is constant between consecutive region edges: integrate it there.
+        let mut edges: Vec<f64> = self
+            .stiffness_regions
+            .iter()
+            .flat_map(|r| [r.start_m, r.end_m])
+            .filter(|&x| x > a_m && x < b_m)
+            .chain([a_m, b_m])
+            .collect();
+        edges.sort_by(f64::total_cmp);
+        let factor_integral: f64 = edges
+            .windows(2)
+            .map(|w| {
+                let mid = 0.5 * (w[0] + w[1]);
+                let factor: f64 = self
+                    .stiffness_regions
+                    .iter()
+                    .filter(|r| (r.start_m..=r.end_m).contains(&mid))
+                    .map(|r| r.ei_factor)
+                    .product();
+                (w[1] - w[0]) * factor
+            })
+            .sum();
         self.flexural_rigidity_n_m2 * factor_integral / length
     }
 
@@ -156,5 +174,24 @@ mod tests {
         assert!((beam.mean_ei_n_m2(11.0, 13.0) - 0.75 * ei).abs() < 1e-3 * ei);
         assert_eq!(beam.ei_at_n_m2(11.0), 0.5 * ei);
         assert!(!beam.is_uniform());
+    }
+
+    #[test]
+    fn mean_ei_multiplies_overlapping_factors() {
+        // Two regions with factor 0.3 over [10, 12] and [11, 14]: 0.09 on [11, 12].
+        let mut beam = BeamProperties::paper_default();
+        for (start_m, end_m) in [(10.0, 12.0), (11.0, 14.0)] {
+            beam.stiffness_regions.push(StiffnessRegion {
+                start_m,
+                end_m,
+                ei_factor: 0.3,
+            });
+        }
+        let ei = beam.flexural_rigidity_n_m2;
+        assert!((beam.ei_at_n_m2(11.5) - 0.09 * ei).abs() < 1e-9 * ei);
+        // [9, 15]: 1 + 0.3 + 0.09 + 0.3 * 2 + 1 = 2.99 over 6 m.
+        assert!((beam.mean_ei_n_m2(9.0, 15.0) - 2.99 / 6.0 * ei).abs() < 1e-12 * ei);
+        assert!((beam.mean_ei_n_m2(11.25, 11.75) - 0.09 * ei).abs() < 1e-12 * ei);
+        assert_eq!(beam.mean_ei_n_m2(20.0, 21.0), ei);
     }
 }

@@ -2,6 +2,7 @@
 //! module that prints.
 
 mod from_mcap;
+mod inspect_cmd;
 mod simulate_cmd;
 mod verify_cmd;
 
@@ -25,6 +26,8 @@ pub enum Command {
     /// Print or check scenarios.
     #[command(subcommand)]
     Scenario(ScenarioCommand),
+    /// Summarise a run: channels, counts, rates, metadata, attachments and headline truth.
+    Inspect(inspect_cmd::InspectArgs),
     /// Run the analytical verification ladder (exit code 1 if any check fails).
     Verify(VerifyArgs),
     /// Reproduce the paper's studies and go past them (CSV, SVG, summary.md).
@@ -93,6 +96,7 @@ pub fn main() -> ExitCode {
         Command::Scenario(ScenarioCommand::Check { file }) => {
             simulate_cmd::check(&file).map(|()| true)
         }
+        Command::Inspect(args) => inspect_cmd::run(&args).map(|()| true),
         Command::Verify(args) => verify_cmd::run(&args),
         Command::Study(args) => {
             let mut progress = |line: &str| eprintln!("  {line}");

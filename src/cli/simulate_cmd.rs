@@ -25,10 +25,10 @@ pub struct SimulateArgs {
     #[arg(long)]
     pub out: PathBuf,
     /// Override the scenario's seed.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub seed: Option<u64>,
     /// Override the duration (s).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub duration_s: Option<f64>,
     /// Replace an existing output file.
     #[arg(long)]
@@ -45,12 +45,8 @@ pub fn load_scenario(path: Option<&Path>) -> Result<(Scenario, String)> {
             Scenario::default_scenario(),
             DEFAULT_SCENARIO_TOML.to_string(),
         )),
-        Some(p) => {
-            let text = std::fs::read_to_string(p)
-                .with_context(|| format!("reading scenario {}", p.display()))?;
-            let scenario = Scenario::from_toml(&text, &p.display().to_string())?;
-            Ok((scenario, text))
-        }
+        // Relative paths inside (road CSV) are taken from the scenario's folder.
+        Some(p) => Ok(Scenario::from_file(p)?),
     }
 }
 
@@ -90,6 +86,7 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
         scenario.duration_s = Some(d);
     }
     let resolved = scenario.resolve()?;
+    print_warnings(&resolved);
     let prepared = crate::sim::prepare(&resolved)?;
     let mut sink = McapSink::create(
         &args.out,
@@ -300,6 +297,13 @@ fn progress_bar(steps: u64) -> Option<indicatif::ProgressBar> {
     Some(bar)
 }
 
+/// Questionable but legal inputs (coarse time step, vehicles that never arrive...).
+fn print_warnings(resolved: &crate::scenario::Resolved) {
+    for warning in resolved.warnings() {
+        eprintln!("warning: {warning}");
+    }
+}
+
 /// `scenario show`: prints the default scenario.
 pub fn show() {
     print!("{DEFAULT_SCENARIO_TOML}");
@@ -309,6 +313,7 @@ pub fn show() {
 pub fn check(path: &Path) -> Result<()> {
     let (scenario, _) = load_scenario(Some(path))?;
     let resolved = scenario.resolve()?;
+    print_warnings(&resolved);
     eprintln!(
         "{}: ok ({} vehicles, {} sensors, {:.2} s, {} steps)",
         path.display(),

@@ -19,6 +19,9 @@ pub const DEFAULT_N2_CYCLES_M: f64 = 4.0;
 /// Default spacing of the synthesized samples, m (Nyquist 10 cycle/m > `n2` = 4).
 pub const DEFAULT_SAMPLE_SPACING_M: f64 = 0.05;
 
+/// Largest explicit `G_d(n0)` accepted, m^3: twice the upper limit of class H.
+pub const MAX_GD_N0_M3: f64 = 1.048576;
+
 /// Tyre contact-patch length of the moving-average filter of Harris, OBrien & Gonzalez
 /// (2007), m. Not applied unless `tyre_patch_filter_m` is set.
 pub const TYRE_PATCH_LENGTH_M: f64 = 0.24;
@@ -368,6 +371,17 @@ impl RoadProfileSpec {
                 match (class, gd_n0_m3) {
                     (_, Some(gd)) => {
                         require_positive(&format!("{field_path}.gd_n0_m3"), *gd)?;
+                        if *gd > MAX_GD_N0_M3 {
+                            return Err(Error::invalid(
+                                format!("{field_path}.gd_n0_m3"),
+                                crate::error::num(*gd),
+                                format!(
+                                    "is beyond any road: at most {MAX_GD_N0_M3} m^3 (ISO 8608 \
+                                     class H is {} m^3)",
+                                    IsoClass::H.gd_n0_m3()
+                                ),
+                            ));
+                        }
                     }
                     (Some(_), None) => {}
                     (None, None) => {

@@ -3,6 +3,8 @@
 
 mod validate;
 
+use std::path::Path;
+
 use serde::{Deserialize, Serialize};
 
 use crate::bridge::{BeamProperties, ModelSpec, StiffnessRegion};
@@ -11,7 +13,10 @@ use crate::road::RoadProfileSpec;
 use crate::solver::{ContactLaw, NewmarkParams};
 use crate::vehicle::VehicleModelSpec;
 
-pub use validate::{Resolved, ResolvedSensor, ResolvedVehicle};
+pub use validate::{
+    Resolved, ResolvedSensor, ResolvedVehicle, F1_RANGE_HZ, MAX_DURATION_S, MAX_ROAD_M, MAX_SPAN_M,
+    MAX_STEPS, MIN_STEPS_PER_MODE_PERIOD, MIN_STEPS_PER_SENSOR_PERIOD,
+};
 
 /// The embedded default scenario (`bridgetwin scenario show`).
 pub const DEFAULT_SCENARIO_TOML: &str = include_str!("default.toml");
@@ -283,12 +288,57 @@ impl Default for OutputSection {
 }
 
 impl Scenario {
-    /// Parses TOML; `source` names the file in errors.
+    /// Parses TOML; `source` names the file in errors. Relative paths inside (the road
+    /// CSV) are kept as written: see [`Scenario::from_file`].
     pub fn from_toml(text: &str, source: &str) -> Result<Scenario> {
+        if text.trim().is_empty() {
+            return Err(Error::File {
+                path: source.to_string(),
+                reason: "is empty: a scenario needs at least a [bridge] table \
+                         (`bridgetwin scenario show` prints a complete one)"
+                    .into(),
+            });
+        }
         toml::from_str(text).map_err(|e| Error::File {
             path: source.to_string(),
             reason: e.to_string().trim_end().replace('\n', " "),
         })
+    }
+
+    /// Reads and parses a scenario file, and resolves the relative paths in it (the road
+    /// CSV) against the file's folder, so that a scenario runs the same from any working
+    /// directory. Returns the scenario and the file's text. Errors name the file: it
+    /// cannot be read, is not UTF-8 (with the offset of the first bad byte), or is not a
+    /// valid scenario.
+    pub fn from_file(path: &Path) -> Result<(Scenario, String)> {
+        let label = path.display().to_string();
+        let fail = |reason: String| Error::File {
+            path: label.clone(),
+            reason,
+        };
+        let bytes =
+            std::fs::read(path).map_err(|e| fail(format!("cannot read the scenario: {e}")))?;
+        let text = String::from_utf8(bytes).map_err(|e| {
+            let at = e.utf8_error().valid_up_to();
+            fail(format!(
+                "is not UTF-8 text (byte 0x{:02x} at offset {at}): a scenario is a TOML file",
+                e.as_bytes()[at]
+            ))
+        })?;
+        let mut scenario = Scenario::from_toml(&text, &label)?;
+        if let Some(dir) = path.parent() {
+            scenario.resolve_relative_paths(dir);
+        }
+        Ok((scenario, text))
+    }
+
+    /// Joins relative file paths in the scenario (the road CSV) to `base_dir`.
+    pub fn resolve_relative_paths(&mut self, base_dir: &Path) {
+        if let RoadProfileSpec::Csv { path } = &mut self.road.profile {
+            if Path::new(path.as_str()).is_relative() && !base_dir.as_os_str().is_empty() {
+                *path = base_dir.join(path.as_str()).to_string_lossy().into_owned();
+            }
+        }
     }
 
     /// The embedded default.
@@ -301,5 +351,74 @@ impl Scenario {
     /// The resolved scenario as TOML (stored in the output).
     pub fn to_toml(&self) -> String {
         toml::to_string(self).unwrap_or_default()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn empty_file_is_named() {
+        let e = Scenario::from_toml(" \n# nothing\n", "s.toml").err();
+        // A comment-only file is a TOML document without [bridge]: still an error.
+        assert!(e.is_some());
+        let msg = Scenario::from_toml("\n  \n", "s.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(msg.starts_with("s.toml: is empty"), "{msg}");
+    }
+
+    #[test]
+    fn from_file_resolves_the_road_csv_against_the_scenario_folder() {
+        let dir = tempfile::tempdir().unwrap();
+        let text = DEFAULT_SCENARIO_TOML.replace(
+            r#"profile = { kind = "iso8608", class = "A" }"#,
+            r#"profile = { kind = "csv", path = "road.csv" }"#,
+        );
+        let file = dir.path().join("s.toml");
+        std::fs::write(&file, &text).unwrap();
+        let (s, read) = Scenario::from_file(&file).unwrap();
+        assert_eq!(read, text);
+        let expected = dir.path().join("road.csv").to_string_lossy().into_owned();
+        assert_eq!(s.road.profile, RoadProfileSpec::Csv { path: expected });
+
+        // Absolute paths stay as written; a bare file name has no folder to join.
+        let mut s = Scenario::default_scenario();
+        s.road.profile = RoadProfileSpec::Csv {
+            path: "/abs/road.csv".into(),
+        };
+        s.resolve_relative_paths(dir.path());
+        assert_eq!(
+            s.road.profile,
+            RoadProfileSpec::Csv {
+                path: "/abs/road.csv".into()
+            }
+        );
+        s.road.profile = RoadProfileSpec::Csv {
+            path: "road.csv".into(),
+        };
+        s.resolve_relative_paths(Path::new(""));
+        assert_eq!(
+            s.road.profile,
+            RoadProfileSpec::Csv {
+                path: "road.csv".into()
+            }
+        );
+    }
+
+    #[test]
+    fn from_file_names_the_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let missing = dir.path().join("nope.toml");
+        let msg = Scenario::from_file(&missing).unwrap_err().to_string();
+        assert!(msg.contains("nope.toml: cannot read the scenario"), "{msg}");
+        let garbage = dir.path().join("g.toml");
+        std::fs::write(&garbage, b"seed = 1\n\xff\xfe").unwrap();
+        let msg = Scenario::from_file(&garbage).unwrap_err().to_string();
+        assert!(
+            msg.contains("g.toml: is not UTF-8 text (byte 0xff at offset 9)"),
+            "{msg}"
+        );
     }
 }

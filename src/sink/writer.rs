@@ -100,8 +100,14 @@ impl McapSink<BufWriter<File>> {
         if path.is_dir() {
             return Err(fail("is a directory".into()));
         }
-        if path.exists() && !options.force {
-            return Err(fail("already exists (use force to overwrite)".into()));
+        if let Ok(meta) = std::fs::symlink_metadata(path) {
+            // Never rename a run over a device, FIFO, socket or symlink, even with force.
+            if !meta.is_file() {
+                return Err(fail("exists and is not a regular file".into()));
+            }
+            if !options.force {
+                return Err(fail("already exists (use --force to overwrite)".into()));
+            }
         }
         let mut partial_name = file_name.to_os_string();
         partial_name.push(".partial");
@@ -187,6 +193,12 @@ impl McapSink<Cursor<Vec<u8>>> {
 }
 
 impl<W: Write + Seek> McapSink<W> {
+    /// A sink on any seekable writer (a socket-backed buffer, a test double); `label`
+    /// names it in errors. `options.force` is ignored.
+    pub fn on_writer(out: W, options: &SinkOptions, label: &str) -> Result<Self> {
+        Self::with_writer(out, options, label.to_owned(), None)
+    }
+
     fn with_writer(
         out: W,
         options: &SinkOptions,
@@ -201,7 +213,7 @@ impl<W: Write + Seek> McapSink<W> {
             .create(out)
             .map_err(|e| Error::Output {
                 path: label.clone(),
-                reason: e.to_string(),
+                reason: chain(&e),
             })?;
         Ok(Self {
             writer,
@@ -234,7 +246,7 @@ impl<W: Write + Seek> McapSink<W> {
                 let id = self
                     .writer
                     .add_schema(&full_name, ENCODING, &data)
-                    .map_err(|e| self.error(format!("schema {full_name}: {e}")))?;
+                    .map_err(|e| self.error(format!("schema {full_name}: {}", chain(&e))))?;
                 self.schemas.insert(full_name, id);
                 id
             }
@@ -242,7 +254,7 @@ impl<W: Write + Seek> McapSink<W> {
         let mcap_id = self
             .writer
             .add_channel(schema_id, topic, ENCODING, &metadata)
-            .map_err(|e| self.error(format!("channel {topic}: {e}")))?;
+            .map_err(|e| self.error(format!("channel {topic}: {}", chain(&e))))?;
         self.channels.push(Channel {
             mcap_id,
             topic: topic.to_owned(),
@@ -302,13 +314,13 @@ impl<W: Write + Seek> McapSink<W> {
             .encode(&mut self.buffer)
             .map_err(|e| Error::Output {
                 path: self.label.clone(),
-                reason: e.to_string(),
+                reason: chain(&e),
             })?;
         self.writer
             .write_to_known_channel(&header, &self.buffer)
             .map_err(|e| Error::Output {
                 path: self.label.clone(),
-                reason: e.to_string(),
+                reason: chain(&e),
             })?;
         self.last_log_time_ns = log_time_ns;
         Ok(())
@@ -323,7 +335,7 @@ impl<W: Write + Seek> McapSink<W> {
         };
         self.writer
             .write_metadata(&record)
-            .map_err(|e| self.error(format!("metadata {name}: {e}")))
+            .map_err(|e| self.error(format!("metadata {name}: {}", chain(&e))))
     }
 
     /// Attaches a file (scenario TOML, road profile CSV). `log_time_ns` is also used as the
@@ -344,7 +356,7 @@ impl<W: Write + Seek> McapSink<W> {
         };
         self.writer
             .attach(&attachment)
-            .map_err(|e| self.error(format!("attachment {name}: {e}")))
+            .map_err(|e| self.error(format!("attachment {name}: {}", chain(&e))))
     }
 
     /// Closes the current chunk and flushes it to the file, so that a run killed later
@@ -352,7 +364,7 @@ impl<W: Write + Seek> McapSink<W> {
     pub fn flush(&mut self) -> Result<()> {
         self.writer
             .flush()
-            .map_err(|e| self.error(format!("flush failed: {e}")))
+            .map_err(|e| self.error(format!("flush failed: {}", chain(&e))))
     }
 
     /// Number of messages written on `channel` so far.
@@ -366,7 +378,7 @@ impl<W: Write + Seek> McapSink<W> {
     fn close(mut self) -> Result<(W, Option<OutputPaths>)> {
         self.writer
             .finish()
-            .map_err(|e| self.error(format!("finishing the MCAP failed: {e}")))?;
+            .map_err(|e| self.error(format!("finishing the MCAP failed: {}", chain(&e))))?;
         let mut out = self.writer.into_inner();
         out.flush().map_err(|e| Error::Output {
             path: self.label.clone(),
@@ -381,4 +393,20 @@ impl<W: Write + Seek> McapSink<W> {
             reason,
         }
     }
+}
+
+/// An error with its causes ("I/O error from writing: No space left on device"): the
+/// MCAP writer's own message hides the OS error in its source.
+fn chain(error: &dyn std::error::Error) -> String {
+    let mut text = error.to_string();
+    let mut source = error.source();
+    while let Some(cause) = source {
+        let cause_text = cause.to_string();
+        if !text.contains(&cause_text) {
+            text.push_str(": ");
+            text.push_str(&cause_text);
+        }
+        source = cause.source();
+    }
+    text
 }
