@@ -1,5 +1,7 @@
 //! One sensor channel: resampler + truth interpolation + per-sample stages (noise).
 
+use std::sync::Arc;
+
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 
@@ -44,7 +46,7 @@ pub struct ChannelSample {
 #[derive(Debug)]
 pub struct SensorChannel {
     schedule: OutputSchedule,
-    kernel: Option<PolyphaseKernel>,
+    kernel: Option<Arc<PolyphaseKernel>>,
     noise_sigma: f64,
     stages: Vec<Box<dyn SampleStage>>,
 }
@@ -132,7 +134,7 @@ impl SensorChannel {
 
     /// Anti-alias kernel taps (1 for pass-through).
     pub fn taps(&self) -> usize {
-        self.kernel.as_ref().map_or(1, PolyphaseKernel::taps)
+        self.kernel.as_ref().map_or(1, |k| k.taps())
     }
 
     /// Per-sample white-noise sigma (0 without noise).
@@ -152,7 +154,7 @@ impl SensorChannel {
 }
 
 fn evaluate(
-    kernel: &Option<PolyphaseKernel>,
+    kernel: &Option<Arc<PolyphaseKernel>>,
     stages: &mut [Box<dyn SampleStage>],
     centre: usize,
     due: &Due<'_>,

@@ -22,6 +22,7 @@
 //! interpolated weights (a convex combination of two rows) keep unit sum.
 
 use std::f64::consts::PI;
+use std::sync::{Arc, Mutex, OnceLock};
 
 /// Design of one kernel, all frequencies in cycles per solver sample.
 #[derive(Debug, Clone, Copy)]
@@ -135,6 +136,35 @@ impl PolyphaseKernel {
             .unwrap_or_else(|| auto_phases(design.cutoff, design.attenuation_db))
             .max(1);
         (Kaiser::new(design).half_width, phases)
+    }
+
+    /// The kernel of `design`, built once per process and shared: sensors with the same
+    /// rate (and every run of a sweep) use one table. Building costs phases x taps Bessel
+    /// and sine evaluations, which dominated short runs with many sensors.
+    pub(crate) fn shared(design: &KaiserDesign) -> Arc<Self> {
+        /// Distinct designs kept; the oldest is dropped beyond this (runs use a handful).
+        const CAPACITY: usize = 16;
+        type Cache = Mutex<Vec<([u64; 4], Arc<PolyphaseKernel>)>>;
+        static CACHE: OnceLock<Cache> = OnceLock::new();
+        let key = [
+            design.cutoff.to_bits(),
+            design.transition.to_bits(),
+            design.attenuation_db.to_bits(),
+            design.phases.map_or(u64::MAX, |p| p as u64),
+        ];
+        let cache = CACHE.get_or_init(|| Mutex::new(Vec::new()));
+        // A poisoned lock only means another thread panicked mid-insert: the data is a
+        // plain list of finished kernels, still valid.
+        let mut kernels = cache.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some((_, kernel)) = kernels.iter().find(|(k, _)| *k == key) {
+            return Arc::clone(kernel);
+        }
+        let kernel = Arc::new(Self::new(design));
+        if kernels.len() == CAPACITY {
+            kernels.remove(0);
+        }
+        kernels.push((key, Arc::clone(&kernel)));
+        kernel
     }
 
     pub(crate) fn new(design: &KaiserDesign) -> Self {

@@ -1,5 +1,7 @@
 //! Anti-alias filtering and resampling from the solver rate to a sensor rate.
 
+use std::sync::Arc;
+
 use serde::{Deserialize, Serialize};
 
 use super::kaiser::{KaiserDesign, PolyphaseKernel};
@@ -146,7 +148,7 @@ impl Rates {
         &self,
         options: &AntiAliasOptions,
         prefix: &str,
-    ) -> Result<Option<PolyphaseKernel>> {
+    ) -> Result<Option<Arc<PolyphaseKernel>>> {
         if self.same {
             return Ok(None);
         }
@@ -184,7 +186,7 @@ impl Rates {
                 ),
             ));
         }
-        Ok(Some(PolyphaseKernel::new(&design)))
+        Ok(Some(PolyphaseKernel::shared(&design)))
     }
 }
 
@@ -209,7 +211,7 @@ impl Rates {
 #[derive(Debug, Clone)]
 pub struct Resampler {
     schedule: OutputSchedule,
-    kernel: Option<PolyphaseKernel>,
+    kernel: Option<Arc<PolyphaseKernel>>,
 }
 
 impl Resampler {
@@ -225,7 +227,7 @@ impl Resampler {
         options.validate(&field(field_prefix, "anti_alias"))?;
         let rates = Rates::new(fs_in_hz, fs_out_hz, field_prefix)?;
         let kernel = rates.kernel(options, field_prefix)?;
-        let half = kernel.as_ref().map_or(0, PolyphaseKernel::half_width);
+        let half = kernel.as_ref().map_or(0, |k| k.half_width());
         Ok(Self {
             schedule: OutputSchedule::new(rates.out, rates.dt_ns, half, half),
             kernel,
@@ -255,12 +257,12 @@ impl Resampler {
 
     /// Kernel taps `2L + 1` (1 for pass-through).
     pub fn taps(&self) -> usize {
-        self.kernel.as_ref().map_or(1, PolyphaseKernel::taps)
+        self.kernel.as_ref().map_or(1, |k| k.taps())
     }
 
     /// Polyphase table phases (0 for pass-through).
     pub fn table_phases(&self) -> usize {
-        self.kernel.as_ref().map_or(0, PolyphaseKernel::phases)
+        self.kernel.as_ref().map_or(0, |k| k.phases())
     }
 
     /// Largest delay between an output instant and the push that emits it: `L * dt_ns`.
@@ -291,7 +293,7 @@ impl Resampler {
 
 /// Filtered value of a due output; the window is centred on index `centre`.
 pub(crate) fn filter(
-    kernel: &Option<PolyphaseKernel>,
+    kernel: &Option<Arc<PolyphaseKernel>>,
     centre: usize,
     due: &super::schedule::Due<'_>,
 ) -> f64 {
