@@ -16,6 +16,7 @@ pub mod sim;
 pub mod sink;
 pub mod solver;
 pub mod study;
+pub mod sweep;
 pub mod vehicle;
 pub mod verify;
 

@@ -4,6 +4,7 @@
 mod from_mcap;
 mod inspect_cmd;
 mod simulate_cmd;
+mod sweep_cmd;
 mod verify_cmd;
 
 use std::path::PathBuf;
@@ -28,6 +29,8 @@ pub enum Command {
     Scenario(ScenarioCommand),
     /// Summarise a run: channels, counts, rates, metadata, attachments and headline truth.
     Inspect(inspect_cmd::InspectArgs),
+    /// Run a dataset sweep: a plan of scenario variations, one MCAP per run, runs.csv.
+    Sweep(sweep_cmd::SweepArgs),
     /// Run the analytical verification ladder (exit code 1 if any check fails).
     Verify(VerifyArgs),
     /// Reproduce the paper's studies and go past them (CSV, SVG, summary.md).
@@ -97,6 +100,7 @@ pub fn main() -> ExitCode {
             simulate_cmd::check(&file).map(|()| true)
         }
         Command::Inspect(args) => inspect_cmd::run(&args).map(|()| true),
+        Command::Sweep(args) => sweep_cmd::run(&args).map(|()| true),
         Command::Verify(args) => verify_cmd::run(&args),
         Command::Study(args) => {
             let mut progress = |line: &str| eprintln!("  {line}");

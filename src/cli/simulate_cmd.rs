@@ -1,6 +1,5 @@
 //! `bridgetwin simulate` and `bridgetwin scenario`.
 
-use std::collections::BTreeMap;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
@@ -10,7 +9,7 @@ use std::time::Instant;
 use anyhow::{Context, Result};
 
 use crate::scenario::{Scenario, DEFAULT_SCENARIO_TOML};
-use crate::sink::{McapRecorder, McapSink, SinkOptions};
+use crate::sink::{write_run, McapSink, SinkOptions, Written};
 
 /// Arguments of `simulate`.
 #[derive(Debug, clap::Args)]
@@ -97,9 +96,28 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
     )?;
     let partial = partial_path(&args.out);
     let stop = stop_on_signals()?;
-    let outcome = write_run(&mut sink, &resolved, &prepared, &original_toml, &stop);
-    match outcome {
-        Ok((summary, _, _, _)) if summary.stopped_at_s.is_some() => {
+    let bar = progress_bar(resolved.steps);
+    let mut progress = |step, _| {
+        if let Some(b) = &bar {
+            b.set_position(step);
+        }
+    };
+    let mut control = crate::sim::Control {
+        progress: &mut progress,
+        stop: Some(&stop),
+    };
+    let outcome = write_run(
+        &mut sink,
+        &resolved,
+        &prepared,
+        &original_toml,
+        &mut control,
+    );
+    if let Some(b) = bar {
+        b.finish_and_clear();
+    }
+    match outcome.map_err(anyhow::Error::from) {
+        Ok(Written { summary, .. }) if summary.stopped_at_s.is_some() => {
             let partial = sink.finish_partial()?;
             Err(Interrupted {
                 stopped_at_s: summary.stopped_at_s.unwrap_or(0.0),
@@ -107,7 +125,12 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
             }
             .into())
         }
-        Ok((summary, messages, loop_s, write_s)) => {
+        Ok(Written {
+            summary,
+            messages,
+            loop_s,
+            write_s,
+        }) => {
             let path = sink.finish()?;
             let bytes = std::fs::metadata(&path).map(|m| m.len()).unwrap_or(0);
             let wall_s = started.elapsed().as_secs_f64();
@@ -134,7 +157,8 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
                 eprintln!("vehicle {id} axle {axle}: on the bridge, max/static = {dlc:.3}, sigma/static = {sigma:.3}");
             }
             eprintln!(
-                "steps with a tyre in tension or lifted off: {}",
+                "peak midspan deflection {:.3} mm; steps with a tyre in tension or lifted off: {}",
+                summary.peak_midspan_deflection_m * 1e3,
                 summary.contact_loss_steps
             );
             if args.timings {
@@ -154,113 +178,6 @@ fn partial_path(out: &Path) -> PathBuf {
     let mut name = out.as_os_str().to_owned();
     name.push(".partial");
     PathBuf::from(name)
-}
-
-/// What a finished run reports: summary, messages, time loop (s), writing within it (s).
-type Written = (crate::sim::RunSummary, u64, f64, f64);
-
-fn write_run(
-    sink: &mut McapSink,
-    resolved: &crate::scenario::Resolved,
-    prepared: &crate::sim::Prepared,
-    original_toml: &str,
-    stop: &AtomicBool,
-) -> Result<Written> {
-    let s = &resolved.scenario;
-    let start = resolved.start_time_ns;
-    sink.write_metadata(
-        "bridgetwin",
-        BTreeMap::from([
-            ("version".to_string(), env!("CARGO_PKG_VERSION").to_string()),
-            (
-                "git_revision".to_string(),
-                option_env!("BRIDGETWIN_GIT_REVISION")
-                    .unwrap_or("unknown")
-                    .to_string(),
-            ),
-            ("seed".to_string(), s.seed.to_string()),
-            ("start_time".to_string(), s.start_time.clone()),
-        ]),
-    )?;
-    sink.write_metadata(
-        "scenario",
-        BTreeMap::from([("toml".to_string(), s.to_toml())]),
-    )?;
-    let model = &prepared.model;
-    let freqs: Vec<String> = (1..=model.omega_rad_s.len().min(10))
-        .map(|n| format!("{:.6}", model.frequency_hz(n)))
-        .collect();
-    sink.write_metadata(
-        "bridge_model",
-        BTreeMap::from([
-            ("model".to_string(), s.bridge.model.label()),
-            ("natural_frequencies_hz".to_string(), freqs.join(",")),
-            (
-                "damping_ratio".to_string(),
-                s.bridge.damping_ratio.to_string(),
-            ),
-            (
-                "rayleigh_a0_per_s".to_string(),
-                model.rayleigh.a0_per_s.to_string(),
-            ),
-            ("rayleigh_a1_s".to_string(), model.rayleigh.a1_s.to_string()),
-            (
-                "flexural_rigidity_n_m2".to_string(),
-                s.bridge.flexural_rigidity_n_m2.to_string(),
-            ),
-            (
-                "mass_per_length_kg_m".to_string(),
-                s.bridge.mass_per_length_kg_m.to_string(),
-            ),
-            ("span_m".to_string(), s.bridge.span_m.to_string()),
-            ("road".to_string(), prepared.road.describe().to_string()),
-        ]),
-    )?;
-    sink.attach(
-        "scenario.toml",
-        "application/toml",
-        original_toml.as_bytes(),
-        start,
-    )?;
-    sink.attach(
-        "road_profile.csv",
-        "text/csv",
-        prepared.road.to_csv().as_bytes(),
-        start,
-    )?;
-    let mut recorder = McapRecorder::new(sink, resolved, model.shape_positions_m().to_vec())?;
-    let n = model.omega_rad_s.len().min(10);
-    let freqs: Vec<f64> = (1..=n).map(|k| model.frequency_hz(k)).collect();
-    let zetas: Vec<f64> = model
-        .omega_rad_s
-        .iter()
-        .take(n)
-        .map(|&w| model.rayleigh.ratio_at(w))
-        .collect();
-    recorder.write_modal_state(&freqs, &zetas)?;
-    recorder.flush_every(std::time::Duration::from_secs(2));
-    let bar = progress_bar(resolved.steps);
-    let loop_start = Instant::now();
-    let mut progress = |step, _| {
-        if let Some(b) = &bar {
-            b.set_position(step);
-        }
-    };
-    let mut control = crate::sim::Control {
-        progress: &mut progress,
-        stop: Some(stop),
-    };
-    let summary = crate::sim::run_controlled(resolved, prepared, &mut recorder, &mut control)?;
-    let physics_s = loop_start.elapsed().as_secs_f64();
-    if let Some(b) = bar {
-        b.finish_and_clear();
-    }
-    Ok((
-        summary,
-        recorder.messages,
-        physics_s,
-        recorder.write_time.as_secs_f64(),
-    ))
 }
 
 /// `--timings`: where the wall time went, and the peak memory.

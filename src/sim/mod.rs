@@ -49,6 +49,8 @@ pub struct RunSummary {
     pub road_csv: String,
     /// Simulated time at which a stop request ended the run early (s).
     pub stopped_at_s: Option<f64>,
+    /// Largest midspan deflection, either sign, at the solver rate (m).
+    pub peak_midspan_deflection_m: f64,
 }
 
 /// How the caller follows and steers a run.
@@ -194,6 +196,13 @@ pub fn run_controlled(
         .collect();
     shape_ops.shrink_to_fit();
     let hint = divergence_hint(s);
+    let mut midspan = SparseVec::default();
+    model.point_operator(
+        0.5 * model.span_m(),
+        PointQuantity::Deflection,
+        &mut midspan,
+    );
+    let mut peak_midspan_m = 0.0f64;
 
     let mut stopped_at = None;
     for step in 0..=resolved.steps {
@@ -209,6 +218,7 @@ pub fn run_controlled(
         }
         let t_ns = step * resolved.dt_ns;
         check_finite(&solver, &shape_ops, step, (dt_s, &hint))?;
+        peak_midspan_m = peak_midspan_m.max(midspan.dot(&solver.bridge.state.u).abs());
         for (tap, (d, m, k)) in taps.iter_mut().zip(&ops) {
             tap.push(&quantities(&solver, d, m, *k));
         }
@@ -269,6 +279,7 @@ pub fn run_controlled(
         road_description: prepared.road.describe().to_string(),
         road_csv: prepared.road.to_csv(),
         stopped_at_s: stopped_at.map(|step| step as f64 * dt_s),
+        peak_midspan_deflection_m: peak_midspan_m,
     })
 }
 

@@ -12,6 +12,7 @@
 
 mod blocks;
 mod recorder;
+mod run_file;
 mod schema;
 mod topics;
 mod writer;
@@ -19,6 +20,7 @@ mod writer;
 use std::collections::BTreeMap;
 
 pub use recorder::McapRecorder;
+pub use run_file::{write_run, Written};
 pub use schema::{self_contained_descriptor_set, ALL_DESCRIPTORS};
 pub use topics::{validate_segment, validate_topic, Topics};
 pub use writer::{ChannelId, McapSink, SinkOptions};
