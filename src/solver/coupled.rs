@@ -197,6 +197,9 @@ pub struct CoupledSolver<'a> {
     lu: SmallLu,
     forces: Vec<f64>,
     entries: Vec<f64>,
+    /// Columns of `K_eff^-1` (see [`Newmark::inverse_columns`]): an influence vector
+    /// `Z = K_eff^-1 h` is then a few axpys over the entries of h instead of a solve.
+    inverse_columns: Option<Vec<DVector<f64>>>,
 }
 
 impl<'a> CoupledSolver<'a> {
@@ -216,7 +219,9 @@ impl<'a> CoupledSolver<'a> {
             mode,
         )?;
         let n = model.n_dof();
+        let inverse_columns = bridge.inverse_columns();
         Ok(CoupledSolver {
+            inverse_columns,
             model,
             bridge,
             vehicles: Vec::new(),
@@ -335,8 +340,17 @@ impl<'a> CoupledSolver<'a> {
         for contact in &mut self.contacts {
             if contact.on_span {
                 contact.z.fill(0.0);
-                contact.h.add_scaled_to(1.0, &mut contact.z);
-                self.bridge.solve_in_place(&mut contact.z);
+                match &self.inverse_columns {
+                    Some(columns) => {
+                        for (&k, &w) in contact.h.idx.iter().zip(&contact.h.val) {
+                            contact.z.axpy(w, &columns[k], 1.0);
+                        }
+                    }
+                    None => {
+                        contact.h.add_scaled_to(1.0, &mut contact.z);
+                        self.bridge.solve_in_place(&mut contact.z);
+                    }
+                }
             }
         }
     }

@@ -110,14 +110,25 @@ pub struct Csc {
     col_offsets: Vec<usize>,
     row_indices: Vec<usize>,
     values: Vec<f64>,
+    /// 1 / first value of each column (the diagonal of a triangular factor): the solves
+    /// multiply, because a division's latency would set the pace of the substitution.
+    inv_first: Vec<f64>,
 }
 
 impl From<&CscMatrix<f64>> for Csc {
     fn from(m: &CscMatrix<f64>) -> Self {
+        let offsets = m.col_offsets();
+        let inv_first = (0..m.ncols())
+            .map(|j| match offsets[j] < offsets[j + 1] {
+                true => 1.0 / m.values()[offsets[j]],
+                false => f64::NAN,
+            })
+            .collect();
         Csc {
-            col_offsets: m.col_offsets().to_vec(),
+            col_offsets: offsets.to_vec(),
             row_indices: m.row_indices().to_vec(),
             values: m.values().to_vec(),
+            inv_first,
         }
     }
 }
@@ -148,7 +159,7 @@ impl Csc {
     fn solve_lower_in_place(&self, b: &mut [f64]) {
         for j in 0..b.len() {
             let (rows, values) = self.column(j);
-            let xj = b[j] / values[0];
+            let xj = b[j] * self.inv_first[j];
             b[j] = xj;
             for (&i, &v) in rows[1..].iter().zip(&values[1..]) {
                 b[i] -= v * xj;
@@ -164,7 +175,7 @@ impl Csc {
             for (&i, &v) in rows[1..].iter().zip(&values[1..]) {
                 sum -= v * b[i];
             }
-            b[j] = sum / values[0];
+            b[j] = sum * self.inv_first[j];
         }
     }
 }

@@ -196,6 +196,28 @@ impl Newmark {
         self.damping.mul_add(1.0, &self.scratch, rhs);
     }
 
+    /// `K_eff^-1` as dense columns when that pays for the coupling's influence vectors:
+    /// a factor computed once (not the paper's per-step mode), not diagonal (a modal
+    /// solve is already O(n)), and small enough (n <= 1024: at most 8 MiB). `None` else.
+    pub fn inverse_columns(&self) -> Option<Vec<DVector<f64>>> {
+        const MAX_DOF: usize = 1024;
+        let n = self.state.u.len();
+        match &self.factor {
+            Some(Factor::Diagonal(_)) | None => None,
+            Some(_) if n > MAX_DOF => None,
+            Some(f) => Some(
+                (0..n)
+                    .map(|k| {
+                        let mut e = DVector::zeros(n);
+                        e[k] = 1.0;
+                        f.solve_in_place(&mut e);
+                        e
+                    })
+                    .collect(),
+            ),
+        }
+    }
+
     /// Overwrites `b` with `K_eff^-1 b`.
     pub fn solve_in_place(&self, b: &mut DVector<f64>) {
         match &self.factor {
