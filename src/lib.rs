@@ -5,6 +5,7 @@
 //! touches output (`sink`) or the command line (`cli`).
 
 pub mod analytic;
+pub mod bench;
 pub mod bridge;
 pub mod cli;
 pub mod error;

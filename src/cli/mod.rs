@@ -1,6 +1,7 @@
 //! Command-line interface: argument parsing, dispatch, printing, exit codes. The only
 //! module that prints.
 
+mod bench_cmd;
 mod from_mcap;
 mod inspect_cmd;
 mod simulate_cmd;
@@ -35,6 +36,8 @@ pub enum Command {
     Verify(VerifyArgs),
     /// Reproduce the paper's studies and go past them (CSV, SVG, summary.md).
     Study(StudyArgs),
+    /// Time a coupled step on each solver path against the paper's direct method.
+    Bench(bench_cmd::BenchArgs),
 }
 
 #[derive(Debug, Subcommand)]
@@ -77,6 +80,8 @@ pub enum StudyKind {
     Discretization,
     /// Dynamic load coefficients vs speed and road class against design codes (section 11).
     Dlc,
+    /// Lumped low-rank, banded FE and modal paths against a converged reference.
+    SolverPaths,
 }
 
 /// Parses arguments, runs the command and maps the outcome to an exit code:
@@ -102,6 +107,7 @@ pub fn main() -> ExitCode {
         Command::Inspect(args) => inspect_cmd::run(&args).map(|()| true),
         Command::Sweep(args) => sweep_cmd::run(&args).map(|()| true),
         Command::Verify(args) => verify_cmd::run(&args),
+        Command::Bench(args) => bench_cmd::run(&args).map(|()| true),
         Command::Study(args) => {
             let mut progress = |line: &str| eprintln!("  {line}");
             crate::study::run_named(args.which_name(), &args.out, args.quick, &mut progress)
@@ -132,6 +138,7 @@ impl StudyArgs {
         match self.which {
             StudyKind::Discretization => "discretization",
             StudyKind::Dlc => "dlc",
+            StudyKind::SolverPaths => "solver-paths",
         }
     }
 }

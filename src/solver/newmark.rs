@@ -197,15 +197,16 @@ impl Newmark {
     }
 
     /// `K_eff^-1` as dense columns when that pays for the coupling's influence vectors:
-    /// a factor computed once (not the paper's per-step mode), not diagonal (a modal
-    /// solve is already O(n)), and small enough (n <= 1024: at most 8 MiB). `None` else.
+    /// a banded factor computed once (not the paper's per-step mode) and a model small
+    /// enough (n <= 1024: at most 8 MiB). `None` else.
     pub fn inverse_columns(&self) -> Option<Vec<DVector<f64>>> {
         const MAX_DOF: usize = 1024;
         let n = self.state.u.len();
         match &self.factor {
-            Some(Factor::Diagonal(_)) | None => None,
-            Some(_) if n > MAX_DOF => None,
-            Some(f) => Some(
+            // Only banded models: their wheel operators touch 4 DOFs, so Z is 4 axpys.
+            // A lumped model's operator touches every mass (n axpys, slower than the
+            // dense solve), a modal solve is already O(n).
+            Some(f @ Factor::Sparse(_)) if n <= MAX_DOF => Some(
                 (0..n)
                     .map(|k| {
                         let mut e = DVector::zeros(n);
@@ -215,6 +216,7 @@ impl Newmark {
                     })
                     .collect(),
             ),
+            _ => None,
         }
     }
 

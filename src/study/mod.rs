@@ -4,6 +4,7 @@
 pub mod discretization;
 pub mod dlc;
 mod output;
+pub mod solver_paths;
 
 use std::path::Path;
 
@@ -19,10 +20,11 @@ pub fn run_named(
     match name {
         "discretization" => discretization::run(out, quick, progress).map(|_| ()),
         "dlc" => dlc::run(out, quick, progress).map(|_| ()),
+        "solver-paths" => solver_paths::run(out, quick, progress).map(|_| ()),
         other => Err(Error::invalid(
             "study",
             other,
-            "is not a study (known: discretization)",
+            "is not a study (known: discretization, dlc, solver-paths)",
         )),
     }
 }
