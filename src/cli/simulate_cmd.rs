@@ -154,7 +154,7 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
                 summary.road_description
             );
             for (id, axle, dlc, sigma) in &summary.dlc {
-                eprintln!("vehicle {id} axle {axle}: on the bridge, max/static = {dlc:.3}, sigma/static = {sigma:.3}");
+                eprintln!("vehicle {id} axle {axle}: on the bridge, at every solver step, max/static = {dlc:.3}, sigma/static = {sigma:.3}");
             }
             eprintln!(
                 "peak midspan deflection {:.3} mm; steps with a tyre in tension or lifted off: {}",
