@@ -6,6 +6,7 @@ mod from_mcap;
 mod inspect_cmd;
 mod simulate_cmd;
 mod sweep_cmd;
+mod terminal;
 mod verify_cmd;
 
 use std::path::PathBuf;

@@ -1,12 +1,9 @@
 //! `bridgetwin simulate` and `bridgetwin scenario`.
 
-use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::AtomicBool;
-use std::sync::Arc;
 use std::time::Instant;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 
 use crate::scenario::{Scenario, DEFAULT_SCENARIO_TOML};
 use crate::sink::{write_run, McapSink, SinkOptions, Written};
@@ -57,20 +54,6 @@ pub struct Interrupted {
     pub partial: String,
 }
 
-/// Sets a flag on SIGINT and SIGTERM so that the time loop stops cleanly; a second
-/// signal ends the process at once (exit 1, `.partial` left as is).
-fn stop_on_signals() -> Result<Arc<AtomicBool>> {
-    use signal_hook::consts::{SIGINT, SIGTERM};
-    let stop = Arc::new(AtomicBool::new(false));
-    for signal in [SIGINT, SIGTERM] {
-        signal_hook::flag::register_conditional_shutdown(signal, 1, Arc::clone(&stop))
-            .context("installing the signal handler")?;
-        signal_hook::flag::register(signal, Arc::clone(&stop))
-            .context("installing the signal handler")?;
-    }
-    Ok(stop)
-}
-
 /// Runs `simulate`.
 pub fn run(args: &SimulateArgs) -> Result<()> {
     let started = Instant::now();
@@ -94,9 +77,9 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
             ..Default::default()
         },
     )?;
-    let partial = partial_path(&args.out);
-    let stop = stop_on_signals()?;
-    let bar = progress_bar(resolved.steps);
+    let stop = super::terminal::stop_on_signals()?;
+    let bar =
+        super::terminal::progress_bar(resolved.steps, "{bar:40} {pos}/{len} steps ({eta} left)");
     let mut progress = |step, _| {
         if let Some(b) = &bar {
             b.set_position(step);
@@ -167,17 +150,10 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
             Ok(())
         }
         Err(e) => {
-            drop(sink);
-            let _ = std::fs::remove_file(&partial);
+            sink.discard();
             Err(e)
         }
     }
-}
-
-fn partial_path(out: &Path) -> PathBuf {
-    let mut name = out.as_os_str().to_owned();
-    name.push(".partial");
-    PathBuf::from(name)
 }
 
 /// `--timings`: where the wall time went, and the peak memory.
@@ -199,19 +175,6 @@ fn peak_rss_kib() -> Option<u64> {
     let status = std::fs::read_to_string("/proc/self/status").ok()?;
     let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
     line.split_whitespace().nth(1)?.parse().ok()
-}
-
-fn progress_bar(steps: u64) -> Option<indicatif::ProgressBar> {
-    if !std::io::stderr().is_terminal() {
-        return None;
-    }
-    let bar = indicatif::ProgressBar::new(steps);
-    if let Ok(style) =
-        indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} steps ({eta} left)")
-    {
-        bar.set_style(style);
-    }
-    Some(bar)
 }
 
 /// Questionable but legal inputs (coarse time step, vehicles that never arrive...).

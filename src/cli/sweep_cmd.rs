@@ -1,9 +1,6 @@
 //! `bridgetwin sweep PLAN.toml --out DIR [--jobs N] [--shard I/N]`.
 
-use std::io::IsTerminal;
 use std::path::PathBuf;
-use std::sync::atomic::AtomicBool;
-use std::sync::Arc;
 
 use anyhow::{bail, Context, Result};
 
@@ -64,11 +61,11 @@ pub fn run(args: &SweepArgs) -> Result<()> {
     }
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("cannot create the output directory {}", args.out.display()))?;
-    let stop = Arc::new(AtomicBool::new(false));
-    for signal in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
-        signal_hook::flag::register(signal, Arc::clone(&stop)).context("signal handler")?;
-    }
-    let bar = progress_bar(mine as u64);
+    let stop = super::terminal::stop_on_signals()?;
+    let bar = super::terminal::progress_bar(
+        mine as u64,
+        "{bar:40} {pos}/{len} runs ({per_sec}, {eta} left)",
+    );
     let on_done = |_: &str| {
         if let Some(b) = &bar {
             b.inc(1);
@@ -138,19 +135,6 @@ fn resolve_shard(args: &SweepArgs, env: impl Fn(&str) -> Option<String>) -> Resu
         return Ok(Shard::new(index, count, "JOB_COMPLETION_INDEX/--shards")?);
     }
     Ok(Shard::ALL)
-}
-
-fn progress_bar(runs: u64) -> Option<indicatif::ProgressBar> {
-    if !std::io::stderr().is_terminal() {
-        return None;
-    }
-    let bar = indicatif::ProgressBar::new(runs);
-    if let Ok(style) =
-        indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} runs ({per_sec}, {eta} left)")
-    {
-        bar.set_style(style);
-    }
-    Some(bar)
 }
 
 #[cfg(test)]

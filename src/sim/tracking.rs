@@ -30,12 +30,14 @@ pub struct Tracker {
     dt_ns: u64,
     wim_positions_m: Vec<f64>,
     tracks: Vec<VehicleTrack>,
+    /// Axle positions of the vehicle being observed (reused: no allocation per step).
+    x_m: Vec<f64>,
 }
 
 impl Tracker {
     pub fn new(resolved: &Resolved, span_m: f64) -> Self {
         let stations = resolved.scenario.wim_stations.len();
-        let tracks = resolved
+        let tracks: Vec<VehicleTrack> = resolved
             .vehicles
             .iter()
             .map(|v| {
@@ -65,6 +67,7 @@ impl Tracker {
                 .iter()
                 .map(|w| w.position_m)
                 .collect(),
+            x_m: Vec::with_capacity(tracks.iter().map(|t| t.prev_x_m.len()).max().unwrap_or(0)),
             tracks,
         }
     }
@@ -94,12 +97,14 @@ impl Tracker {
     pub fn observe(&mut self, solver: &CoupledSolver, step: u64, queue: &mut VecDeque<Record>) {
         let t_ns = step * self.dt_ns;
         let dt_s = self.dt_ns as f64 * 1e-9;
+        let mut x = std::mem::take(&mut self.x_m);
         for (v, track) in solver.vehicles.iter().zip(&mut self.tracks) {
             if !v.is_active() {
                 continue;
             }
             let axles = v.dynamics.axles.len();
-            let x: Vec<f64> = (0..axles).map(|j| v.axle_x_m(j, step, dt_s)).collect();
+            x.clear();
+            x.extend((0..axles).map(|j| v.axle_x_m(j, step, dt_s)));
             if !track.started {
                 track.started = true;
                 track.prev_x_m.copy_from_slice(&x);
@@ -170,6 +175,7 @@ impl Tracker {
             }
             track.prev_x_m.copy_from_slice(&x);
         }
+        self.x_m = x;
     }
 
     /// Queues the records of vehicles that had not left the bridge when the run ended.

@@ -38,6 +38,8 @@ pub struct McapRecorder<'a, W: Write + Seek> {
     events: ChannelId,
     node_position_m: Vec<f64>,
     span_m: f64,
+    /// Block layout: sensor samples go into blocks, every record through `reorder`.
+    blocked: bool,
     /// Block layout: records waiting until no open block starts before them.
     reorder: Reorder,
     closed: Vec<ClosedBlock>,
@@ -111,6 +113,7 @@ impl<'a, W: Write + Seek> McapRecorder<'a, W> {
             events,
             node_position_m,
             span_m: resolved.scenario.bridge.span_m,
+            blocked: output.layout == Layout::Block,
             reorder: Reorder::default(),
             closed: Vec::new(),
             flush_every: None,
@@ -383,7 +386,7 @@ impl<'a, W: Write + Seek> McapRecorder<'a, W> {
 impl<W: Write + Seek> Recorder for McapRecorder<'_, W> {
     fn record(&mut self, record: Record) -> Result<()> {
         let started = Instant::now();
-        let outcome = if self.sensors.iter().any(|s| s.block.is_some()) {
+        let outcome = if self.blocked {
             self.record_blocked(record)
         } else {
             self.write_record(record)

@@ -164,6 +164,16 @@ impl McapSink<BufWriter<File>> {
         Ok(self.close_file()?.partial)
     }
 
+    /// Gives up on a failed run: closes the file and deletes the `.partial`, so that bad
+    /// input or a failed run leaves nothing behind.
+    pub fn discard(self) {
+        let partial = self.paths.as_ref().map(|p| p.partial.clone());
+        drop(self);
+        if let Some(partial) = partial {
+            let _ = std::fs::remove_file(partial);
+        }
+    }
+
     fn close_file(self) -> Result<OutputPaths> {
         let label = self.label.clone();
         let fail = |reason: String| Error::Output {

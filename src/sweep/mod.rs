@@ -156,8 +156,7 @@ fn run_one(run: &RunSpec, runs_dir: &Path, stop: &AtomicBool) -> Result<bool> {
             return Err(Error::invalid(&run.id, "run", "stopped before the end"));
         }
         Err(e) => {
-            drop(sink);
-            let _ = std::fs::remove_file(runs_dir.join(format!("{}.mcap.partial", run.id)));
+            sink.discard();
             return Err(e);
         }
     };
