@@ -8,7 +8,9 @@ pub mod analytic;
 pub mod bench;
 pub mod bridge;
 pub mod cli;
+pub mod daq;
 pub mod error;
+pub mod excitation;
 pub mod plot;
 pub mod road;
 pub mod scenario;
@@ -20,5 +22,6 @@ pub mod study;
 pub mod sweep;
 pub mod vehicle;
 pub mod verify;
+pub mod wim;
 
 pub use error::{Error, Result};

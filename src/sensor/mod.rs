@@ -36,6 +36,7 @@
 //! so richer sensor physics (ADC, faults, ...) can be added without touching the
 //! resampler.
 
+pub mod chain;
 mod channel;
 mod kaiser;
 mod noise;

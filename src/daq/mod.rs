@@ -1,0 +1,1 @@
+//! DAQ nodes: clocks (offset, drift, jitter, resynchronisation) and labelled faults.

@@ -1,0 +1,1 @@
+//! Ambient excitation: band-limited random loads on the bridge.

@@ -1,0 +1,1 @@
+//! Measurement-chain stages and sensor presets (SENSORS.md section 2).
