@@ -5,7 +5,9 @@
 //!   recorder that drops every record;
 //! - `simulate/default/writing_only`: the records of a run (collected beforehand, untimed)
 //!   encoded as protobuf and written to an in-memory MCAP;
-//! - `simulate/default/end_to_end`: both, as `bridgetwin simulate` does (in memory).
+//! - `simulate/default/end_to_end`: both, as `bridgetwin simulate` does (in memory, the
+//!   writer on a second thread);
+//! - `simulate/default/end_to_end_one_thread`: both on one thread, as a sweep job does.
 //!
 //! Issue targets read off these: end_to_end / writing_only (physics close to free next to
 //! output) for both layouts.
@@ -14,6 +16,7 @@ use std::time::Duration;
 
 use bridgetwin::bench::{collect_records, default_scenario, physics_only, write_mcap};
 use bridgetwin::scenario::Layout;
+use bridgetwin::sink::WriterThread;
 use criterion::{criterion_group, criterion_main, Criterion};
 
 fn bench(c: &mut Criterion) {
@@ -28,10 +31,18 @@ fn bench(c: &mut Criterion) {
             b.iter(|| physics_only(&resolved, &prepared).expect("run"))
         });
         group.bench_function("writing_only", |b| {
-            b.iter(|| write_mcap(&resolved, &prepared, Some(&records)).expect("write"))
+            b.iter(|| {
+                write_mcap(&resolved, &prepared, Some(&records), WriterThread::Inline)
+                    .expect("write")
+            })
         });
         group.bench_function("end_to_end", |b| {
-            b.iter(|| write_mcap(&resolved, &prepared, None).expect("run"))
+            b.iter(|| {
+                write_mcap(&resolved, &prepared, None, WriterThread::Background).expect("run")
+            })
+        });
+        group.bench_function("end_to_end_one_thread", |b| {
+            b.iter(|| write_mcap(&resolved, &prepared, None, WriterThread::Inline).expect("run"))
         });
         group.finish();
     }

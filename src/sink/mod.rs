@@ -11,6 +11,7 @@
 //! positive downward; positions are measured along the bridge from the left support.
 
 mod blocks;
+pub mod pipeline;
 mod recorder;
 mod run_file;
 mod schema;
@@ -20,7 +21,7 @@ mod writer;
 use std::collections::BTreeMap;
 
 pub use recorder::McapRecorder;
-pub use run_file::{write_run, Written};
+pub use run_file::{write_run, WriterThread, Written};
 pub use schema::{self_contained_descriptor_set, ALL_DESCRIPTORS};
 pub use topics::{validate_segment, validate_topic, Topics};
 pub use writer::{ChannelId, McapSink, SinkOptions};

@@ -21,16 +21,26 @@ pub struct Written {
     pub write_s: f64,
 }
 
+/// Where the records are encoded and written.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum WriterThread {
+    /// On the time loop's thread (a sweep: one job per core already fills the machine).
+    Inline,
+    /// On a second thread fed in batches ([`super::pipeline`]): physics and output overlap.
+    Background,
+}
+
 /// Writes a whole run into `sink`: the metadata records (`bridgetwin`, `scenario`,
 /// `bridge_model`), the attachments (the scenario as the user wrote it, the road profile),
 /// the modal state, then every record of the simulation. The caller finishes the sink
 /// (`finish`, or `finish_partial` when `summary.stopped_at_s` is set).
-pub fn write_run<W: Write + Seek>(
+pub fn write_run<W: Write + Seek + Send>(
     sink: &mut McapSink<W>,
     resolved: &Resolved,
     prepared: &Prepared,
     original_toml: &str,
     control: &mut Control,
+    thread: WriterThread,
 ) -> Result<Written> {
     let s = &resolved.scenario;
     let start = resolved.start_time_ns;
@@ -106,7 +116,15 @@ pub fn write_run<W: Write + Seek>(
     recorder.write_modal_state(&freqs, &zetas)?;
     recorder.flush_every(Duration::from_secs(2));
     let loop_start = Instant::now();
-    let summary = crate::sim::run_controlled(resolved, prepared, &mut recorder, control)?;
+    let (summary, recorder) = match thread {
+        WriterThread::Inline => {
+            let summary = crate::sim::run_controlled(resolved, prepared, &mut recorder, control)?;
+            (summary, recorder)
+        }
+        WriterThread::Background => super::pipeline::record_in_background(recorder, |r| {
+            crate::sim::run_controlled(resolved, prepared, r, control)
+        })?,
+    };
     Ok(Written {
         summary,
         messages: recorder.messages,

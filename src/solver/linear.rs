@@ -10,7 +10,12 @@
 use nalgebra::{DMatrix, DVector};
 use nalgebra_sparse::{factorization::CscCholesky, CooMatrix, CscMatrix};
 
+use super::band::{half_bandwidth, BandCholesky, BandMatrix};
 use crate::error::{Error, Result};
+
+/// Widest half-bandwidth stored as a band: every beam model here is far below it (3 for
+/// Hermite elements); wider sparse matrices keep the CSC form.
+const MAX_BAND: usize = 32;
 
 /// How a model's matrices are stored and solved.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
@@ -19,7 +24,9 @@ pub enum Storage {
     /// Dense matrices, dense Cholesky factorized once.
     #[default]
     Dense,
-    /// Compressed sparse columns; a banded matrix factorizes in O(n) and solves in O(n).
+    /// Sparse: a band matrix (half-bandwidth up to 32) in band form ([`super::band`]),
+    /// else compressed sparse columns; either way a banded matrix factorizes in O(n) and
+    /// solves in O(n).
     Sparse,
 }
 
@@ -27,6 +34,7 @@ pub enum Storage {
 #[derive(Debug, Clone)]
 pub enum Operator {
     Dense(DMatrix<f64>),
+    Band(BandMatrix),
     Sparse(Csc),
     Diagonal(DVector<f64>),
 }
@@ -39,6 +47,9 @@ impl Operator {
         }
         match storage {
             Storage::Dense => Operator::Dense(matrix.clone()),
+            Storage::Sparse if half_bandwidth(matrix) <= MAX_BAND => {
+                Operator::Band(BandMatrix::from_symmetric(matrix))
+            }
             Storage::Sparse => Operator::Sparse(Csc::from(&to_csc(matrix))),
         }
     }
@@ -47,6 +58,7 @@ impl Operator {
     pub fn mul_add(&self, alpha: f64, x: &DVector<f64>, y: &mut DVector<f64>) {
         match self {
             Operator::Dense(a) => y.gemv(alpha, a, x, 1.0),
+            Operator::Band(a) => a.mul_add(alpha, x.as_slice(), y.as_mut_slice()),
             Operator::Sparse(a) => a.mul_add(alpha, x.as_slice(), y.as_mut_slice()),
             Operator::Diagonal(d) => y.zip_zip_apply(d, x, |yi, di, xi| *yi += alpha * di * xi),
         }
@@ -56,6 +68,8 @@ impl Operator {
 /// A factorized symmetric positive definite matrix.
 pub enum Factor {
     Dense(nalgebra::linalg::Cholesky<f64, nalgebra::Dyn>),
+    /// Band Cholesky factor (half-bandwidth up to 32).
+    Band(BandCholesky),
     /// The Cholesky factor L (lower triangular, diagonal first in each column).
     Sparse(Csc),
     Diagonal(DVector<f64>),
@@ -81,6 +95,9 @@ impl Factor {
                 .cholesky()
                 .map(Factor::Dense)
                 .ok_or_else(|| failed("not positive definite")),
+            Storage::Sparse if half_bandwidth(matrix) <= MAX_BAND => BandCholesky::factor(matrix)
+                .map(Factor::Band)
+                .map_err(|row| failed(&format!("not positive definite (pivot of row {row})"))),
             Storage::Sparse => CscCholesky::factor(&to_csc(matrix))
                 .map_err(|e| failed(&format!("{e:?}")))
                 .map(|c| Csc::from(c.l()))
@@ -95,6 +112,7 @@ impl Factor {
     pub fn solve_in_place(&self, b: &mut DVector<f64>) {
         match self {
             Factor::Dense(c) => c.solve_mut(b),
+            Factor::Band(l) => l.solve_in_place(b.as_mut_slice()),
             Factor::Sparse(l) => {
                 l.solve_lower_in_place(b.as_mut_slice());
                 l.solve_lower_transpose_in_place(b.as_mut_slice());
@@ -256,6 +274,27 @@ mod tests {
         Operator::new(&a, Storage::Sparse).mul_add(-0.5, &b, &mut y);
         let expected = DVector::from_element(n, 1.0) - &a * &b * 0.5;
         assert!((&y - expected).norm() < 1e-12 * y.norm());
+    }
+
+    #[test]
+    fn wide_sparse_matrices_keep_the_csc_path_and_agree_with_dense() {
+        // Tridiagonal plus a far corner coupling: half-bandwidth n - 1 > MAX_BAND.
+        let n = 50;
+        let mut a = spd(n);
+        a[(0, n - 1)] = 0.5;
+        a[(n - 1, 0)] = 0.5;
+        let f = Factor::new(&a, Storage::Sparse, "wide").unwrap();
+        assert!(matches!(f, Factor::Sparse(_)));
+        let b = DVector::from_fn(n, |i, _| (i as f64).sin());
+        let mut x = b.clone();
+        f.solve_in_place(&mut x);
+        let exact = a.clone().lu().solve(&b).unwrap();
+        assert!((&x - &exact).norm() < 1e-12 * exact.norm());
+        let op = Operator::new(&a, Storage::Sparse);
+        assert!(matches!(op, Operator::Sparse(_)));
+        let mut y = DVector::zeros(n);
+        op.mul_add(1.0, &x, &mut y);
+        assert!((&y - &b).norm() < 1e-12 * b.norm());
     }
 
     #[test]

@@ -1,6 +1,7 @@
 //! Time integration: Newmark-beta, the linear algebra behind it, and the coupled
 //! vehicle-bridge step.
 
+mod band;
 mod coupled;
 mod direct;
 mod linear;

@@ -206,7 +206,7 @@ impl Newmark {
             // Only banded models: their wheel operators touch 4 DOFs, so Z is 4 axpys.
             // A lumped model's operator touches every mass (n axpys, slower than the
             // dense solve), a modal solve is already O(n).
-            Some(f @ Factor::Sparse(_)) if n <= MAX_DOF => Some(
+            Some(f @ (Factor::Sparse(_) | Factor::Band(_))) if n <= MAX_DOF => Some(
                 (0..n)
                     .map(|k| {
                         let mut e = DVector::zeros(n);

@@ -19,7 +19,7 @@ use std::sync::Mutex;
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
-use crate::sink::{write_run, McapSink, SinkOptions};
+use crate::sink::{write_run, McapSink, SinkOptions, WriterThread};
 
 pub use plan::{Expanded, Plan, RunSpec};
 
@@ -149,7 +149,14 @@ fn run_one(run: &RunSpec, runs_dir: &Path, stop: &AtomicBool) -> Result<bool> {
         progress: &mut progress,
         stop: Some(stop),
     };
-    let written = match write_run(&mut sink, &resolved, &prepared, &run.toml, &mut control) {
+    let written = match write_run(
+        &mut sink,
+        &resolved,
+        &prepared,
+        &run.toml,
+        &mut control,
+        WriterThread::Inline,
+    ) {
         Ok(w) if w.summary.stopped_at_s.is_none() => w,
         Ok(_) => {
             sink.finish_partial()?;
