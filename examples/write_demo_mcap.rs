@@ -238,6 +238,7 @@ fn write_step(sink: &mut McapSink, ch: &Channels, i: u64, exit_ns: u64) -> Resul
         acceleration_m_s2: acceleration,
         strain_microstrain: strain,
         moment_n_m,
+        ..Default::default()
     };
     sink.write(ch.truth_a1, log_time_ns, &truth)?;
 

@@ -120,6 +120,7 @@ fn write_fixture<W: Write + Seek>(sink: &mut McapSink<W>) -> Written {
                 acceleration_m_s2: x,
                 strain_microstrain: 10.0 * x,
                 moment_n_m: 1e6 * x,
+                ..Default::default()
             }
         );
         if i.is_multiple_of(100) {

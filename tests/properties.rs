@@ -244,7 +244,7 @@ fn record_floats(record: &Record) -> Vec<(&'static str, f64)> {
         Record::Sensor {
             measured, truth, ..
         } => {
-            out.push(("sensor.measured", *measured));
+            out.extend(measured.map(|m| ("sensor.measured", m)));
             out.extend(truth.iter().map(|&v| ("sensor.truth", v)));
         }
         Record::AxleLoads { axles, .. } => {
@@ -257,6 +257,7 @@ fn record_floats(record: &Record) -> Vec<(&'static str, f64)> {
         Record::BridgeShape { deflection_m, .. } => {
             out.extend(deflection_m.iter().map(|&v| ("shape.deflection_m", v)));
         }
+        Record::Fault { magnitude, .. } => out.push(("fault.magnitude", *magnitude)),
         Record::Vehicle { vehicle, .. } => {
             out.push(("vehicle.speed_m_s", vehicle.speed_m_s));
             out.push(("vehicle.gross_weight_n", vehicle.gross_weight_n));

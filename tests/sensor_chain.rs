@@ -308,6 +308,9 @@ fn equal_rates_pass_through_without_delay() {
             got,
             vec![ChannelSample {
                 t_ns: i * DT_NS,
+                stamp_ns: (i * DT_NS) as i64,
+                n0: i,
+                frac: 0.0,
                 measured: v,
                 truth: v
             }]

@@ -61,7 +61,10 @@ fn without_noise_the_measurement_equals_the_truth_at_the_sample_instants() {
                     measured,
                     truth,
                     ..
-                } if *sensor == i => Some((*measured, truth[sensor_kind_index(&resolved, i)])),
+                } if *sensor == i => Some((
+                    measured.expect("no faults configured"),
+                    truth[sensor_kind_index(&resolved, i)],
+                )),
                 _ => None,
             })
             .collect();

@@ -77,6 +77,11 @@ impl Resolved {
         self.steps as f64 * self.dt_ns as f64 * 1e-9
     }
 
+    /// Whether some sensor has faults configured (the run then writes `/truth/faults`).
+    pub fn has_faults(&self) -> bool {
+        false
+    }
+
     /// Questionable but legal inputs, one line each, naming the field and its value: a
     /// time step too coarse for the first bridge mode or for a sensor's band, a sensor
     /// whose band stops below the first mode, vehicles that never reach the bridge within

@@ -27,11 +27,16 @@ pub struct ChannelSpec {
     pub noise: WhiteNoise,
 }
 
-/// One output sample: the instant (ns since the run start, exact `round(k * 1e9 / rate)`),
-/// the recorded value and the noise-free, unfiltered truth at the same instant.
+/// One output sample: the instant (ns since the run start, exact `round(k * 1e9 / rate)`;
+/// with a node clock, the true sampling instant rounded to ns), the node's stamp (= `t_ns`
+/// without a clock), the position `n0 + frac` in solver samples, the recorded value and
+/// the noise-free, unfiltered truth at the same instant.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ChannelSample {
     pub t_ns: u64,
+    pub stamp_ns: i64,
+    pub n0: u64,
+    pub frac: f64,
     pub measured: f64,
     pub truth: f64,
 }
@@ -88,6 +93,23 @@ impl SensorChannel {
             noise_sigma,
             stages,
         })
+    }
+
+    /// The same channel sampling at a DAQ node's instants (see [`super::InstantSource`]);
+    /// the rate must then be at most half the solver rate (checked by the caller), so that
+    /// drift and jitter never put two outputs in one solver step.
+    pub fn with_clock(mut self, clock: Box<dyn super::InstantSource>) -> Self {
+        self.schedule = self.schedule.with_clock(clock);
+        self
+    }
+
+    /// Index of sample `n0` in the window of the last pushed solver samples the channel
+    /// evaluates (its look-back), and the window's length.
+    pub fn window_geometry(&self) -> (usize, usize) {
+        (
+            self.schedule.centre(),
+            self.schedule.centre() + self.schedule.lookahead() + 1,
+        )
     }
 
     /// Appends a stage after the existing ones (applied to `measured` only).
@@ -166,6 +188,9 @@ fn evaluate(
     }
     ChannelSample {
         t_ns: due.t_ns,
+        stamp_ns: due.stamp_ns,
+        n0: due.n0,
+        frac: due.frac,
         measured,
         truth,
     }

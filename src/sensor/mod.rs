@@ -48,7 +48,8 @@ mod truth;
 pub use channel::{ChannelSample, ChannelSpec, SensorChannel};
 pub use noise::{child_rng, fnv1a_64, WhiteNoise, WhiteNoiseSource};
 pub use resample::{AntiAliasOptions, Resampler};
-pub use truth::TruthInterpolator;
+pub use schedule::InstantSource;
+pub use truth::{hermite, TruthInterpolator, HERMITE_LOOKAHEAD, HERMITE_LOOKBACK};
 
 /// A per-sample stage at the sensor's output rate (noise, gain, quantisation, faults, ...):
 /// maps the value at instant `t_ns` to what the next stage sees.

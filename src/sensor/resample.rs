@@ -208,7 +208,7 @@ impl Rates {
 ///
 /// `fs_out == fs_in` passes the solver samples through unchanged (no filter, no latency):
 /// the solver output then is the recorded signal.
-#[derive(Debug, Clone)]
+#[derive(Debug)]
 pub struct Resampler {
     schedule: OutputSchedule,
     kernel: Option<Arc<PolyphaseKernel>>,

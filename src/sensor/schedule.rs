@@ -7,6 +7,9 @@
 //! sample `n0 + lookahead` has been pushed; that is when the output is handed over.
 //! Samples before the first one are taken equal to it (hold), and [`OutputSchedule::flush`]
 //! holds the last one.
+//!
+//! With a DAQ clock ([`InstantSource`]) the instants are the node's true sampling instants
+//! instead (drifting, jittered), and each output also carries the node's stamp.
 
 use super::rate::ExactRate;
 
@@ -45,19 +48,32 @@ impl Ring {
     }
 }
 
-/// One due output: its instant, its fractional position after solver sample `n0`, and the
-/// solver samples `n0 - lookback ..= n0 + lookahead` (index `lookback` is sample `n0`).
+/// Where the output instants come from when a DAQ node's clock sets them.
+pub trait InstantSource: std::fmt::Debug + Send {
+    /// The next output's true instant (ns since the run start, fractional) and the node's
+    /// stamp for it (ns since the run start), for outputs 0, 1, 2, ... in turn. True
+    /// instants must increase by at least one solver step between outputs.
+    fn next_instant(&mut self) -> (f64, i64);
+}
+
+/// One due output: its true instant (rounded to ns), the node's stamp, its position
+/// `n0 + frac` in solver samples, and the solver samples `n0 - lookback ..= n0 + lookahead`
+/// (index `lookback` is sample `n0`).
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Due<'a> {
     pub t_ns: u64,
+    pub stamp_ns: i64,
+    pub n0: u64,
     pub frac: f64,
     pub window: &'a [f64],
 }
 
 /// Ring buffer plus output schedule; see the module doc.
-#[derive(Debug, Clone)]
+#[derive(Debug)]
 pub(crate) struct OutputSchedule {
     rate: ExactRate,
+    /// The node clock, if any: then `next_*` come from it, not from `rate`.
+    clock: Option<Box<dyn InstantSource>>,
     dt_ns: u64,
     lookback: usize,
     lookahead: usize,
@@ -67,7 +83,11 @@ pub(crate) struct OutputSchedule {
     pushed: u64,
     last_value: f64,
     next_k: u64,
+    /// The next output: true instant (ns, rounded), stamp, solver sample and fraction.
     next_t_ns: u64,
+    next_stamp_ns: i64,
+    next_n0: u64,
+    next_frac: f64,
 }
 
 impl OutputSchedule {
@@ -75,8 +95,9 @@ impl OutputSchedule {
     /// outputs fall in distinct solver intervals.
     pub(crate) fn new(rate: ExactRate, dt_ns: u64, lookback: usize, lookahead: usize) -> Self {
         let width = lookback + lookahead + 1;
-        Self {
+        let mut schedule = Self {
             rate,
+            clock: None,
             dt_ns,
             lookback,
             lookahead,
@@ -86,7 +107,19 @@ impl OutputSchedule {
             last_value: 0.0,
             next_k: 0,
             next_t_ns: 0,
-        }
+            next_stamp_ns: 0,
+            next_n0: 0,
+            next_frac: 0.0,
+        };
+        schedule.set_next();
+        schedule
+    }
+
+    /// The same schedule with instants from a node clock (`rate` stays the nominal rate).
+    pub(crate) fn with_clock(mut self, clock: Box<dyn InstantSource>) -> Self {
+        self.clock = Some(clock);
+        self.set_next();
+        self
     }
 
     pub(crate) fn rate(&self) -> ExactRate {
@@ -111,15 +144,42 @@ impl OutputSchedule {
         self.pushed
     }
 
-    fn position(&self, t_ns: u64) -> (u64, f64) {
-        let n0 = t_ns / self.dt_ns;
-        let frac = (t_ns % self.dt_ns) as f64 / self.dt_ns as f64;
-        (n0, frac)
+    /// Computes the `next_*` fields for output `next_k`: exactly in integer ns from the
+    /// rate, or from the clock's fractional true instant.
+    fn set_next(&mut self) {
+        match self.clock.as_mut() {
+            None => {
+                let t_ns = self.rate.instant_ns(self.next_k);
+                self.next_t_ns = t_ns;
+                self.next_stamp_ns = t_ns as i64;
+                self.next_n0 = t_ns / self.dt_ns;
+                self.next_frac = (t_ns % self.dt_ns) as f64 / self.dt_ns as f64;
+            }
+            Some(clock) => {
+                let (true_ns, stamp_ns) = clock.next_instant();
+                let true_ns = true_ns.max(0.0);
+                let position = true_ns / self.dt_ns as f64;
+                self.next_t_ns = true_ns.round() as u64;
+                self.next_stamp_ns = stamp_ns;
+                self.next_n0 = position.floor() as u64;
+                self.next_frac = position - position.floor();
+            }
+        }
     }
 
     fn advance(&mut self) {
         self.next_k += 1;
-        self.next_t_ns = self.rate.instant_ns(self.next_k);
+        self.set_next();
+    }
+
+    fn due<'w>(&self, window: &'w [f64]) -> Due<'w> {
+        Due {
+            t_ns: self.next_t_ns,
+            stamp_ns: self.next_stamp_ns,
+            n0: self.next_n0,
+            frac: self.next_frac,
+            window,
+        }
     }
 
     /// Appends solver sample `pushed()` and calls `eval` for each output that became due.
@@ -135,19 +195,14 @@ impl OutputSchedule {
         let width = self.ring.cap;
         let mut count = 0;
         loop {
-            let (n0, frac) = self.position(self.next_t_ns);
+            let n0 = self.next_n0;
             if n0 + self.lookahead as u64 > newest {
                 break;
             }
-            // Outputs are handed over as soon as they are due and consecutive outputs lie
-            // in distinct solver intervals (rate <= solver rate), so a due output always
+            // Outputs are handed over as soon as they are due, so a due output always
             // ends its window exactly at the newest sample.
             debug_assert_eq!(n0 + self.lookahead as u64, newest);
-            eval(Due {
-                t_ns: self.next_t_ns,
-                frac,
-                window: &self.ring.latest()[..width],
-            });
+            eval(self.due(&self.ring.latest()[..width]));
             count += 1;
             self.advance();
         }
@@ -163,18 +218,16 @@ impl OutputSchedule {
         let newest = self.pushed - 1;
         let width = self.ring.cap;
         let mut count = 0;
-        while self.next_t_ns <= newest.saturating_mul(self.dt_ns) {
-            let (n0, frac) = self.position(self.next_t_ns);
+        while self.next_n0 < newest || (self.next_n0 == newest && self.next_frac == 0.0) {
+            let n0 = self.next_n0;
             // Samples of the window beyond the newest one; 1..=lookahead here.
             let missing = (n0 + self.lookahead as u64 - newest) as usize;
             let known = width - missing;
-            self.scratch[..known].copy_from_slice(&self.ring.latest()[width - known..]);
-            self.scratch[known..].fill(self.last_value);
-            eval(Due {
-                t_ns: self.next_t_ns,
-                frac,
-                window: &self.scratch,
-            });
+            let mut scratch = std::mem::take(&mut self.scratch);
+            scratch[..known].copy_from_slice(&self.ring.latest()[width - known..]);
+            scratch[known..].fill(self.last_value);
+            eval(self.due(&scratch));
+            self.scratch = scratch;
             count += 1;
             self.advance();
         }

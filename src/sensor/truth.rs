@@ -16,13 +16,13 @@ use super::schedule::OutputSchedule;
 use crate::error::Result;
 
 /// Samples needed before the output interval.
-pub(crate) const HERMITE_LOOKBACK: usize = 2;
+pub const HERMITE_LOOKBACK: usize = 2;
 /// Samples needed after the start of the output interval.
-pub(crate) const HERMITE_LOOKAHEAD: usize = 3;
+pub const HERMITE_LOOKAHEAD: usize = 3;
 
 /// Hermite value at `frac` after `window[centre]`; `window` holds at least samples
 /// `centre - 2 ..= centre + 3` unless `frac == 0`, when it returns `window[centre]`.
-pub(crate) fn hermite(frac: f64, window: &[f64], centre: usize) -> f64 {
+pub fn hermite(frac: f64, window: &[f64], centre: usize) -> f64 {
     if frac == 0.0 {
         return window[centre];
     }
@@ -46,7 +46,7 @@ pub(crate) fn hermite(frac: f64, window: &[f64], centre: usize) -> f64 {
 /// samples are the truth).
 ///
 /// [`flush`]: TruthInterpolator::flush
-#[derive(Debug, Clone)]
+#[derive(Debug)]
 pub struct TruthInterpolator {
     schedule: OutputSchedule,
 }

@@ -15,7 +15,7 @@ use crate::bridge::{BridgeModel, ModelSpec, PointQuantity, SparseVec};
 use crate::error::{Error, Result};
 use crate::road::RoadProfile;
 use crate::scenario::{Resolved, SensorKind};
-use crate::sensor::child_rng;
+use crate::sensor::{child_rng, AntiAliasOptions, ChannelSpec, SensorChannel, WhiteNoise};
 use crate::solver::{
     CoupledSolver, CoupledVehicle, NewmarkCoefficients, RoadSurface, SolveMode, Storage,
 };
@@ -163,14 +163,9 @@ pub fn run_controlled(
             SensorKind::Strain => 3,
         };
         taps.push(SensorTap::new(
-            solver_rate_hz,
-            sensor.spec.rate_hz,
-            sensor.noise_density,
+            sensor_channel(solver_rate_hz, s.seed, sensor, i)?,
             measured_index,
-            s.seed,
-            &sensor.spec.id,
-            &format!("sensors.{i}"),
-        )?);
+        ));
         let x = sensor.spec.position_m;
         let mut d = SparseVec::with_capacity(model.n_dof());
         let mut m = SparseVec::with_capacity(model.n_dof());
@@ -283,6 +278,29 @@ pub fn run_controlled(
     })
 }
 
+/// The DAQ channel of sensor `index`: anti-alias filter and resampling to its rate, and
+/// its white self-noise on the sensor's own random stream.
+fn sensor_channel(
+    solver_rate_hz: f64,
+    seed: u64,
+    sensor: &crate::scenario::ResolvedSensor,
+    index: usize,
+) -> Result<SensorChannel> {
+    let spec = ChannelSpec {
+        rate_hz: sensor.spec.rate_hz,
+        anti_alias: AntiAliasOptions::default(),
+        noise: WhiteNoise {
+            density_per_sqrt_hz: sensor.noise_density,
+        },
+    };
+    SensorChannel::new(
+        solver_rate_hz,
+        &spec,
+        child_rng(seed, &format!("sensor/{}", sensor.spec.id)),
+        &format!("sensors.{index}"),
+    )
+}
+
 /// What to try when a run diverges: the likeliest cause first.
 fn divergence_hint(s: &crate::scenario::Scenario) -> String {
     let nm = s.solver.newmark;
@@ -370,7 +388,8 @@ impl Merger {
                 taps[source - 1].pop().map(|s| Record::Sensor {
                     sensor: source - 1,
                     t_ns: s.t_ns,
-                    measured: s.measured,
+                    stamp_ns: s.stamp_ns,
+                    measured: Some(s.measured),
                     truth: s.truth,
                 })
             };

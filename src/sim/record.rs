@@ -53,11 +53,24 @@ pub struct WimRecordData {
 /// A record with its time.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Record {
+    /// One sensor sample. `t_ns` is the true instant the DAQ node sampled (the log time of
+    /// both messages and the truth's stamp); `stamp_ns` is the node clock's reading then
+    /// (the measured message's stamp; equal to `t_ns` without a clock model, negative
+    /// only with a negative clock offset); `measured` is `None` when a fault lost it.
     Sensor {
         sensor: usize,
         t_ns: u64,
-        measured: f64,
+        stamp_ns: i64,
+        measured: Option<f64>,
         truth: Quantities,
+    },
+    /// A labelled fault interval of one sensor's measured stream, written at its start.
+    Fault {
+        t_ns: u64,
+        sensor: usize,
+        kind: &'static str,
+        end_ns: u64,
+        magnitude: f64,
     },
     AxleLoads {
         t_ns: u64,
@@ -87,6 +100,7 @@ impl Record {
     pub fn t_ns(&self) -> u64 {
         match self {
             Record::Sensor { t_ns, .. }
+            | Record::Fault { t_ns, .. }
             | Record::AxleLoads { t_ns, .. }
             | Record::BridgeShape { t_ns, .. }
             | Record::Vehicle { t_ns, .. }

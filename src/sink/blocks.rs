@@ -9,75 +9,93 @@
 
 use std::collections::BTreeMap;
 
-use crate::sim::{Quantities, Record};
+use crate::sim::Record;
 
-/// Samples of one sensor waiting to fill a block.
+/// Which stream of a sensor a block belongs to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Stream {
+    /// The measured values (one column), on the node's clock; lost samples are gaps.
+    Measured,
+    /// The truth quantities (five columns, `Quantities` order), on true time, complete.
+    Truth,
+}
+
+/// Samples of one stream of one sensor waiting to fill a block.
 #[derive(Debug)]
 pub(super) struct OpenBlock {
+    stream: Stream,
     /// Nominal sample spacing (ns, fractional for rates that do not divide 1 s).
     period_ns: f64,
     capacity: usize,
-    /// Run-relative time of the first sample (ns).
+    /// Run-relative true time of the first sample (ns): the block's log time.
     start_ns: u64,
-    pub measured: Vec<f64>,
-    /// Truth quantities, one vector per entry of `Quantities`.
-    pub truth: [Vec<f64>; 5],
+    /// The first sample's stamp (ns): the node clock's for measured blocks, else = start.
+    start_stamp_ns: i64,
+    pub columns: Vec<Vec<f64>>,
 }
 
-/// A block ready to be written: `sensor` index, run-relative time of its first sample.
+/// A block ready to be written.
 #[derive(Debug)]
 pub(super) struct ClosedBlock {
     pub sensor: usize,
+    pub stream: Stream,
+    /// Run-relative true time of the first sample (ns).
     pub start_ns: u64,
-    pub measured: Vec<f64>,
-    pub truth: [Vec<f64>; 5],
+    /// Stamp of the first sample (ns since the run start, node clock for measured).
+    pub start_stamp_ns: i64,
+    pub columns: Vec<Vec<f64>>,
 }
 
 impl OpenBlock {
-    pub fn new(rate_hz: f64, capacity: usize) -> Self {
+    pub fn new(stream: Stream, rate_hz: f64, capacity: usize) -> Self {
+        let width = match stream {
+            Stream::Measured => 1,
+            Stream::Truth => 5,
+        };
         OpenBlock {
+            stream,
             period_ns: 1e9 / rate_hz,
             capacity,
             start_ns: 0,
-            measured: Vec::with_capacity(capacity),
-            truth: std::array::from_fn(|_| Vec::with_capacity(capacity)),
+            start_stamp_ns: 0,
+            columns: (0..width).map(|_| Vec::with_capacity(capacity)).collect(),
         }
     }
 
     fn len(&self) -> usize {
-        self.measured.len()
+        self.columns[0].len()
     }
 
-    /// Time of the first sample, if the block holds any.
+    /// True time of the first sample, if the block holds any.
     pub fn start_ns(&self) -> Option<u64> {
         (self.len() > 0).then_some(self.start_ns)
     }
 
-    /// Whether a sample at `t_ns` continues this block without a gap (a sample the DAQ
-    /// lost starts a new block, so `timestamp + i * period` stays true inside a block).
-    fn continues(&self, t_ns: u64) -> bool {
-        let expected = self.start_ns as f64 + self.len() as f64 * self.period_ns;
-        (t_ns as f64 - expected).abs() < 0.25 * self.period_ns
+    /// Whether a sample stamped `stamp_ns` continues this block without a gap (a sample
+    /// the DAQ lost, or a clock resynchronisation, starts a new block, so that
+    /// `timestamp + i * period` stays true inside a block).
+    fn continues(&self, stamp_ns: i64) -> bool {
+        let expected = self.start_stamp_ns as f64 + self.len() as f64 * self.period_ns;
+        (stamp_ns as f64 - expected).abs() < 0.25 * self.period_ns
     }
 
-    /// Adds a sample; blocks that close (interrupted by a gap before this sample, or full
-    /// with it) go to `closed`.
+    /// Adds a sample (`values` has one entry per column); blocks that close (interrupted
+    /// by a gap before this sample, or full with it) go to `closed`.
     pub fn push(
         &mut self,
         sensor: usize,
-        t_ns: u64,
-        measured: f64,
-        truth: &Quantities,
+        (t_ns, stamp_ns): (u64, i64),
+        values: &[f64],
         closed: &mut Vec<ClosedBlock>,
     ) {
-        if self.len() > 0 && !self.continues(t_ns) {
+        if self.len() > 0 && !self.continues(stamp_ns) {
             closed.extend(self.take(sensor));
         }
         if self.len() == 0 {
             self.start_ns = t_ns;
+            self.start_stamp_ns = stamp_ns;
         }
-        self.measured.push(measured);
-        for (column, &value) in self.truth.iter_mut().zip(truth) {
+        for (column, &value) in self.columns.iter_mut().zip(values) {
             column.push(value);
         }
         if self.len() >= self.capacity {
@@ -90,12 +108,17 @@ impl OpenBlock {
         if self.len() == 0 {
             return None;
         }
-        let fresh = || Vec::with_capacity(self.capacity);
+        let capacity = self.capacity;
         Some(ClosedBlock {
             sensor,
+            stream: self.stream,
             start_ns: self.start_ns,
-            measured: std::mem::replace(&mut self.measured, fresh()),
-            truth: std::array::from_fn(|k| std::mem::replace(&mut self.truth[k], fresh())),
+            start_stamp_ns: self.start_stamp_ns,
+            columns: self
+                .columns
+                .iter_mut()
+                .map(|c| std::mem::replace(c, Vec::with_capacity(capacity)))
+                .collect(),
         })
     }
 
@@ -147,47 +170,66 @@ mod tests {
     fn push_all(block: &mut OpenBlock, times: &[u64]) -> Vec<ClosedBlock> {
         let mut closed = Vec::new();
         for (i, &t) in times.iter().enumerate() {
-            block.push(0, t, i as f64, &[i as f64; 5], &mut closed);
+            block.push(0, (t, t as i64), &[i as f64; 5], &mut closed);
         }
         closed
     }
 
     #[test]
     fn full_blocks_close_at_capacity() {
-        let mut block = OpenBlock::new(200.0, 3);
+        let mut block = OpenBlock::new(Stream::Truth, 200.0, 3);
         let times: Vec<u64> = (0..7).map(|k| k * 5_000_000).collect();
         let closed = push_all(&mut block, &times);
         assert_eq!(closed.len(), 2);
-        assert_eq!(closed[0].measured, [0.0, 1.0, 2.0]);
+        assert_eq!(closed[0].columns[0], [0.0, 1.0, 2.0]);
         assert_eq!(closed[1].start_ns, 15_000_000);
-        assert_eq!(closed[1].truth[4], [3.0, 4.0, 5.0]);
+        assert_eq!(closed[1].columns[4], [3.0, 4.0, 5.0]);
         let rest = block.take(0).unwrap();
-        assert_eq!((rest.start_ns, rest.measured.len()), (30_000_000, 1));
+        assert_eq!((rest.start_ns, rest.columns[0].len()), (30_000_000, 1));
         assert!(block.take(0).is_none());
     }
 
     #[test]
     fn a_gap_closes_the_block_early() {
-        let mut block = OpenBlock::new(200.0, 4);
+        let mut block = OpenBlock::new(Stream::Measured, 200.0, 4);
         // Samples 0, 1, then 3 (2 lost), 4, 5, 6.
         let times: Vec<u64> = [0, 1, 3, 4, 5, 6].iter().map(|k| k * 5_000_000).collect();
         let closed = push_all(&mut block, &times);
         assert_eq!(closed.len(), 2);
-        assert_eq!(closed[0].measured, [0.0, 1.0]);
+        assert_eq!(closed[0].columns, [vec![0.0, 1.0]]);
         assert_eq!(closed[1].start_ns, 15_000_000);
-        assert_eq!(closed[1].measured.len(), 4);
+        assert_eq!(closed[1].columns[0].len(), 4);
     }
 
     #[test]
     fn fractional_periods_do_not_accumulate_into_false_gaps() {
         // 300 Hz: 3 333 333.3 ns; sample times are rounded to whole ns by the DAQ clock.
-        let mut block = OpenBlock::new(300.0, 1000);
+        let mut block = OpenBlock::new(Stream::Truth, 300.0, 1000);
         let times: Vec<u64> = (0..1000u64)
             .map(|k| (k as f64 * 1e9 / 300.0).round() as u64)
             .collect();
         let closed = push_all(&mut block, &times);
         assert_eq!(closed.len(), 1);
-        assert_eq!(closed[0].measured.len(), 1000);
+        assert_eq!(closed[0].columns[0].len(), 1000);
+    }
+
+    #[test]
+    fn a_clock_jump_starts_a_new_measured_block_with_the_new_stamp() {
+        // True times regular; the node's stamps jump back 2 ms (resync) at sample 3.
+        let mut block = OpenBlock::new(Stream::Measured, 200.0, 10);
+        let mut closed = Vec::new();
+        for k in 0..6u64 {
+            let t = k * 5_000_000;
+            let stamp = t as i64 + if k < 3 { 2_000_000 } else { 0 };
+            block.push(0, (t, stamp), &[k as f64], &mut closed);
+        }
+        assert_eq!(closed.len(), 1);
+        assert_eq!(closed[0].start_stamp_ns, 2_000_000);
+        let rest = block.take(0).unwrap();
+        assert_eq!(
+            (rest.start_ns, rest.start_stamp_ns),
+            (15_000_000, 15_000_000)
+        );
     }
 
     #[test]

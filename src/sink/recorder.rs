@@ -5,11 +5,11 @@ use std::collections::BTreeMap;
 use std::io::{Seek, Write};
 use std::time::{Duration, Instant};
 
-use super::blocks::{ClosedBlock, OpenBlock, Pending, Reorder};
+use super::blocks::{ClosedBlock, OpenBlock, Pending, Reorder, Stream};
 use super::proto::foxglove::{log::Level, Log};
 use super::proto::v1::{
-    AccelerationSample, AxleLoad, AxleLoads, BridgeState, DisplacementSample, SampleBlock,
-    SensorTruth, SensorTruthBlock, StrainSample, VehicleTruth, WimRecord,
+    AccelerationSample, AxleLoad, AxleLoads, BridgeState, DisplacementSample, FaultInterval,
+    SampleBlock, SensorTruth, SensorTruthBlock, StrainSample, VehicleTruth, WimRecord,
 };
 use super::{metadata, timestamp_from_ns, ChannelId, McapSink, Topics};
 use crate::error::Result;
@@ -22,8 +22,17 @@ struct SensorChannels {
     id: String,
     measured: ChannelId,
     truth: ChannelId,
-    /// Block layout only: the samples waiting to fill the next block.
+    /// Block layout only: the truth samples waiting to fill the next block.
     block: Option<OpenBlock>,
+    /// Block layout only: the measured samples waiting to fill the next block.
+    measured_block: Option<OpenBlock>,
+}
+
+impl SensorChannels {
+    /// The open blocks (none in the sample layout).
+    fn open_blocks(&mut self) -> impl Iterator<Item = &mut OpenBlock> {
+        self.block.iter_mut().chain(self.measured_block.iter_mut())
+    }
 }
 
 /// A `Recorder` writing to an MCAP sink.
@@ -36,6 +45,8 @@ pub struct McapRecorder<'a, W: Write + Seek> {
     vehicles: ChannelId,
     wim: Vec<(String, ChannelId)>,
     events: ChannelId,
+    /// `/truth/faults`, registered when some sensor has faults configured.
+    faults: Option<ChannelId>,
     node_position_m: Vec<f64>,
     span_m: f64,
     /// Block layout: sensor samples go into blocks, every record through `reorder`.
@@ -102,6 +113,13 @@ impl<'a, W: Write + Seek> McapRecorder<'a, W> {
             wim.push((w.id.clone(), ch));
         }
         let events = sink.add_channel::<Log>(Topics::EVENTS, BTreeMap::new())?;
+        let faults = match resolved.has_faults() {
+            true => Some(sink.add_channel::<FaultInterval>(
+                Topics::FAULTS,
+                metadata([("content", "one record per fault interval, at its start")]),
+            )?),
+            false => None,
+        };
         Ok(McapRecorder {
             sink,
             start_time_ns: resolved.start_time_ns,
@@ -111,6 +129,7 @@ impl<'a, W: Write + Seek> McapRecorder<'a, W> {
             vehicles,
             wim,
             events,
+            faults,
             node_position_m,
             span_m: resolved.scenario.bridge.span_m,
             blocked: output.layout == Layout::Block,
@@ -155,11 +174,16 @@ impl<'a, W: Write + Seek> McapRecorder<'a, W> {
             Record::Sensor {
                 sensor,
                 t_ns,
+                stamp_ns,
                 measured,
                 truth,
             } => {
-                if let Some(block) = self.sensors[sensor].block.as_mut() {
-                    block.push(sensor, t_ns, measured, &truth, &mut self.closed);
+                let channels = &mut self.sensors[sensor];
+                if let Some(block) = channels.block.as_mut() {
+                    block.push(sensor, (t_ns, t_ns as i64), &truth, &mut self.closed);
+                }
+                if let (Some(block), Some(m)) = (channels.measured_block.as_mut(), measured) {
+                    block.push(sensor, (t_ns, stamp_ns), &[m], &mut self.closed);
                 }
             }
             other => self.reorder.push(other.t_ns(), Pending::Record(other)),
@@ -174,8 +198,8 @@ impl<'a, W: Write + Seek> McapRecorder<'a, W> {
     fn release(&mut self) -> Result<()> {
         let watermark = self
             .sensors
-            .iter()
-            .filter_map(|s| s.block.as_ref()?.start_ns())
+            .iter_mut()
+            .flat_map(|s| s.open_blocks().filter_map(|b| b.start_ns()))
             .min()
             .unwrap_or(u64::MAX);
         while let Some(item) = self.reorder.pop_until(watermark) {
@@ -189,85 +213,150 @@ impl<'a, W: Write + Seek> McapRecorder<'a, W> {
 
     fn write_block(&mut self, block: ClosedBlock) -> Result<()> {
         let time = self.start_time_ns + block.start_ns;
-        let ts = Some(timestamp_from_ns(time));
         let ch = &self.sensors[block.sensor];
         let period = ch.block.as_ref().map_or(0, OpenBlock::period_ns_rounded);
-        let (quantity, unit) = match ch.kind {
-            SensorKind::Accelerometer => ("acceleration", "m/s^2"),
-            SensorKind::Strain => ("strain", "microstrain"),
-            SensorKind::Displacement => ("displacement", "m"),
-        };
-        let measured = SampleBlock {
-            timestamp: ts,
-            sample_period_ns: period,
-            quantity: quantity.into(),
-            unit: unit.into(),
-            values: block.measured,
-        };
-        let [displacement_m, velocity_m_s, acceleration_m_s2, strain_microstrain, moment_n_m] =
-            block.truth;
-        let truth = SensorTruthBlock {
-            timestamp: ts,
-            sample_period_ns: period,
-            sensor_id: ch.id.clone(),
-            displacement_m,
-            velocity_m_s,
-            acceleration_m_s2,
-            strain_microstrain,
-            moment_n_m,
-        };
-        let (measured_ch, truth_ch) = (ch.measured, ch.truth);
-        self.messages += 2;
-        self.sink.write(measured_ch, time, &measured)?;
-        self.sink.write(truth_ch, time, &truth)
+        self.messages += 1;
+        match block.stream {
+            Stream::Measured => {
+                let (quantity, unit) = match ch.kind {
+                    SensorKind::Accelerometer => ("acceleration", "m/s^2"),
+                    SensorKind::Strain => ("strain", "microstrain"),
+                    SensorKind::Displacement => ("displacement", "m"),
+                };
+                let stamp = self
+                    .start_time_ns
+                    .saturating_add_signed(block.start_stamp_ns);
+                let measured = SampleBlock {
+                    timestamp: Some(timestamp_from_ns(stamp)),
+                    sample_period_ns: period,
+                    quantity: quantity.into(),
+                    unit: unit.into(),
+                    values: block.columns.into_iter().next().unwrap_or_default(),
+                };
+                let channel = ch.measured;
+                self.sink.write(channel, time, &measured)
+            }
+            Stream::Truth => {
+                let mut columns = block.columns.into_iter();
+                let mut next = || columns.next().unwrap_or_default();
+                let truth = SensorTruthBlock {
+                    timestamp: Some(timestamp_from_ns(time)),
+                    sample_period_ns: period,
+                    sensor_id: ch.id.clone(),
+                    displacement_m: next(),
+                    velocity_m_s: next(),
+                    acceleration_m_s2: next(),
+                    strain_microstrain: next(),
+                    moment_n_m: next(),
+                };
+                let channel = ch.truth;
+                self.sink.write(channel, time, &truth)
+            }
+        }
     }
 
+    /// The measured message (stamped by the node's clock; none when lost) and the truth
+    /// message (true time) of one sample; `time` is the true instant, the log time of both.
     fn write_sensor_sample(
         &mut self,
         sensor: usize,
         time: u64,
-        measured: f64,
+        stamp_ns: i64,
+        measured: Option<f64>,
         truth: &Quantities,
     ) -> Result<()> {
         let ch = &self.sensors[sensor];
-        let timestamp = Some(timestamp_from_ns(time));
-        match ch.kind {
-            SensorKind::Accelerometer => self.sink.write(
-                ch.measured,
-                time,
-                &AccelerationSample {
-                    timestamp,
-                    acceleration_m_s2: measured,
-                },
-            )?,
-            SensorKind::Strain => self.sink.write(
-                ch.measured,
-                time,
-                &StrainSample {
-                    timestamp,
-                    strain_microstrain: measured,
-                },
-            )?,
-            SensorKind::Displacement => self.sink.write(
-                ch.measured,
-                time,
-                &DisplacementSample {
-                    timestamp,
-                    displacement_m: measured,
-                },
-            )?,
+        let true_stamp = Some(timestamp_from_ns(time));
+        let node_stamp = Some(timestamp_from_ns(
+            self.start_time_ns.saturating_add_signed(stamp_ns),
+        ));
+        if let Some(measured) = measured {
+            let timestamp = node_stamp;
+            self.messages += 1;
+            match ch.kind {
+                SensorKind::Accelerometer => self.sink.write(
+                    ch.measured,
+                    time,
+                    &AccelerationSample {
+                        timestamp,
+                        acceleration_m_s2: measured,
+                    },
+                )?,
+                SensorKind::Strain => self.sink.write(
+                    ch.measured,
+                    time,
+                    &StrainSample {
+                        timestamp,
+                        strain_microstrain: measured,
+                    },
+                )?,
+                SensorKind::Displacement => self.sink.write(
+                    ch.measured,
+                    time,
+                    &DisplacementSample {
+                        timestamp,
+                        displacement_m: measured,
+                    },
+                )?,
+            }
         }
-        self.messages += 2;
+        self.messages += 1;
         let msg = SensorTruth {
-            timestamp,
+            timestamp: true_stamp,
             sensor_id: ch.id.clone(),
             displacement_m: truth[0],
             velocity_m_s: truth[1],
             acceleration_m_s2: truth[2],
             strain_microstrain: truth[3],
             moment_n_m: truth[4],
+            // Only where a node clock makes it differ: it would add 8 % to the file else.
+            node_timestamp: (stamp_ns != time.wrapping_sub(self.start_time_ns) as i64)
+                .then_some(node_stamp)
+                .flatten(),
+            measured_lost: measured.is_none(),
         };
         self.sink.write(ch.truth, time, &msg)
+    }
+
+    /// A fault label: on `/truth/faults`, and on `/events` unless it is a single randomly
+    /// lost sample (those would flood the log; `/truth/faults` has each of them).
+    fn write_fault(
+        &mut self,
+        time: u64,
+        sensor: usize,
+        kind: &'static str,
+        end_ns: u64,
+        magnitude: f64,
+    ) -> Result<()> {
+        let Some(channel) = self.faults else {
+            return Ok(());
+        };
+        let id = self.sensors[sensor].id.clone();
+        let end = self.start_time_ns + end_ns;
+        let msg = FaultInterval {
+            timestamp: Some(timestamp_from_ns(time)),
+            sensor_id: id.clone(),
+            kind: kind.into(),
+            end_time: Some(timestamp_from_ns(end)),
+            magnitude,
+        };
+        self.sink.write(channel, time, &msg)?;
+        if kind == "loss_random" {
+            return Ok(());
+        }
+        self.messages += 1;
+        let log = Log {
+            timestamp: Some(timestamp_from_ns(time)),
+            level: Level::Warning as i32,
+            message: format!(
+                "fault {kind} on sensor {id}: {:.3} s, magnitude {magnitude}",
+                (end - time) as f64 * 1e-9
+            ),
+            name: "bridgetwin".into(),
+            file: String::new(),
+            line: 0,
+        };
+        self.sink.write(self.events, time, &log)
     }
 
     /// Writes one record as one message (sensor samples: two, measured and truth).
@@ -280,10 +369,18 @@ impl<'a, W: Write + Seek> McapRecorder<'a, W> {
         match record {
             Record::Sensor {
                 sensor,
+                stamp_ns,
                 measured,
                 truth,
                 ..
-            } => self.write_sensor_sample(sensor, time, measured, &truth),
+            } => self.write_sensor_sample(sensor, time, stamp_ns, measured, &truth),
+            Record::Fault {
+                sensor,
+                kind,
+                end_ns,
+                magnitude,
+                ..
+            } => self.write_fault(time, sensor, kind, end_ns, magnitude),
             Record::AxleLoads { axles, .. } => {
                 let axles = axles
                     .iter()
@@ -399,7 +496,7 @@ impl<W: Write + Seek> Recorder for McapRecorder<'_, W> {
     /// Writes the partly filled blocks and everything still queued.
     fn finish(&mut self) -> Result<()> {
         for (i, s) in self.sensors.iter_mut().enumerate() {
-            if let Some(block) = s.block.as_mut() {
+            for block in s.open_blocks() {
                 self.closed.extend(block.take(i));
             }
         }
@@ -466,7 +563,10 @@ fn sensor_channels<W: Write + Seek>(
         id: spec.id.clone(),
         measured,
         truth,
-        block: (layout == Layout::Block).then(|| OpenBlock::new(spec.rate_hz, block_samples)),
+        block: (layout == Layout::Block)
+            .then(|| OpenBlock::new(Stream::Truth, spec.rate_hz, block_samples)),
+        measured_block: (layout == Layout::Block)
+            .then(|| OpenBlock::new(Stream::Measured, spec.rate_hz, block_samples)),
     })
 }
 

@@ -132,3 +132,33 @@ pub fn write_run<W: Write + Seek + Send>(
         write_s: recorder.write_time.as_secs_f64(),
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scenario::Scenario;
+    use crate::sink::SinkOptions;
+
+    /// The default scenario, shortened, written by `write_run` with the writer `thread`.
+    fn bytes(thread: WriterThread) -> Vec<u8> {
+        let mut s = Scenario::default_scenario();
+        s.duration_s = Some(2.0);
+        let resolved = s.resolve().unwrap();
+        let prepared = crate::sim::prepare(&resolved).unwrap();
+        let mut sink = McapSink::in_memory(&SinkOptions::default()).unwrap();
+        let mut progress = |_, _| {};
+        let mut control = Control {
+            progress: &mut progress,
+            stop: None,
+        };
+        write_run(&mut sink, &resolved, &prepared, "", &mut control, thread).unwrap();
+        sink.finish_to_bytes().unwrap()
+    }
+
+    #[test]
+    fn the_writer_thread_writes_the_same_bytes_as_inline_writing() {
+        let inline = bytes(WriterThread::Inline);
+        assert!(inline.len() > 100_000, "{}", inline.len());
+        assert!(inline == bytes(WriterThread::Background));
+    }
+}

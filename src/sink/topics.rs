@@ -15,6 +15,8 @@ impl Topics {
     pub const VEHICLES: &'static str = "/truth/vehicles";
     /// Deflected shape and modal state (`BridgeState`).
     pub const BRIDGE: &'static str = "/truth/bridge";
+    /// Labelled fault intervals of the measured streams.
+    pub const FAULTS: &'static str = "/truth/faults";
     /// Events as `foxglove.Log`.
     pub const EVENTS: &'static str = "/events";
     /// Suffix of a sensor's block-layout topic when both layouts are written in one file
