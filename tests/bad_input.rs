@@ -1152,6 +1152,124 @@ fn cli_cases() -> Vec<Case> {
     ]
 }
 
+/// Issue 5: sensor presets and chains, DAQ nodes, faults, ambient excitation, WIM models.
+fn monitoring_cases() -> Vec<Case> {
+    const LOWNOISE: Edit = Set("sensors.0.preset", "\"mems_lownoise\"");
+    const NODE: Edit = Set(
+        "daq_nodes",
+        "[{ id = \"N1\", clock = { drift_ppm = 20.0 } }]",
+    );
+    vec![
+        Case::edit(
+            "unknown sensor preset",
+            &[Set("sensors.0.preset", "\"mems_fancy\"")],
+            &["unknown variant `mems_fancy`", "mems_lownoise"],
+        ),
+        Case::edit(
+            "accelerometer preset on a strain gauge",
+            &[Set("sensors.7.preset", "\"mems_lownoise\"")],
+            &["sensors.7.preset", "mems_lownoise"],
+        ),
+        Case::edit(
+            "negative chain noise density",
+            &[LOWNOISE, Set("sensors.0.chain.noise_density", "-1.0")],
+            &["sensors.0.chain.noise_density = -1"],
+        ),
+        Case::edit(
+            "rate not supported by the preset",
+            &[
+                Set("solver.dt_s", "0.0001"),
+                LOWNOISE,
+                Set("sensors.0.rate_hz", "5000.0"),
+            ],
+            &["sensors.0.rate_hz = 5000", "mems_lownoise"],
+        ),
+        Case::edit(
+            "ADC with 40 bits",
+            &[
+                LOWNOISE,
+                Set("sensors.0.chain.adc", "{ bits = 40, range = 1.0 }"),
+            ],
+            &["sensors.0.chain.adc.bits = 40"],
+        ),
+        Case::edit(
+            "clock drift beyond 1000 ppm",
+            &[
+                Set(
+                    "daq_nodes",
+                    "[{ id = \"N1\", clock = { drift_ppm = 2000.0 } }]",
+                ),
+                Set("sensors.0.daq_node", "\"N1\""),
+            ],
+            &["daq_nodes.0.clock.drift_ppm = 2000"],
+        ),
+        Case::edit(
+            "sensor on an unknown DAQ node",
+            &[NODE, Set("sensors.0.daq_node", "\"N9\"")],
+            &["sensors.0.daq_node = \"N9\" is not a [[daq_nodes]] id"],
+        ),
+        Case::edit(
+            "clocked sensor at the solver rate",
+            &[
+                NODE,
+                Set("sensors.0.daq_node", "\"N1\""),
+                Set("sensors.0.rate_hz", "1000.0"),
+            ],
+            &["sensors.0.rate_hz = 1000 must be at most half the solver rate"],
+        ),
+        Case::edit(
+            "loss probability above 1",
+            &[Set(
+                "sensors.0.faults",
+                "{ loss = { kind = \"random\", probability = 1.5 } }",
+            )],
+            &["sensors.0.faults.loss.probability = 1.5"],
+        ),
+        Case::edit(
+            "negative spike rate",
+            &[Set(
+                "sensors.0.faults",
+                "{ spikes = { rate_per_hour = -1.0, amplitude = 1.0 } }",
+            )],
+            &["sensors.0.faults.spikes.rate_per_hour = -1"],
+        ),
+        Case::edit(
+            "ambient target negative",
+            &[Set("ambient", "{ target_rms_m_s2 = -1.0 }")],
+            &["ambient.target_rms_m_s2 = -1"],
+        ),
+        Case::edit(
+            "ambient band above the Nyquist frequency",
+            &[Set(
+                "ambient",
+                "{ target_rms_m_s2 = 0.01, band_hz = [1.0, 600.0] }",
+            )],
+            &["ambient.band_hz", "600"],
+        ),
+        Case::edit(
+            "unknown COST 323 class",
+            &[Set(
+                "wim_stations.0.model",
+                "{ kind = \"cost323\", class = \"E(30)\" }",
+            )],
+            &["wim_stations.0.model.class = \"E(30)\"", "B+(7)"],
+        ),
+        Case::edit(
+            "negative WIM noise",
+            &[Set(
+                "wim_stations.0.model",
+                "{ kind = \"physics\", noise_rel = -0.1 }",
+            )],
+            &["wim_stations.0.model.noise_rel = -0.1"],
+        ),
+    ]
+}
+
+#[test]
+fn monitoring() {
+    run_all("monitoring", &monitoring_cases());
+}
+
 #[test]
 fn scenario_syntax() {
     run_all("scenario syntax", &syntax_cases());
@@ -1183,6 +1301,7 @@ fn the_catalogue_has_at_least_45_cases() {
         ("physics", physics_cases().len()),
         ("output", output_cases().len()),
         ("CLI", cli_cases().len()),
+        ("monitoring", monitoring_cases().len()),
     ];
     let total: usize = counts.iter().map(|c| c.1).sum();
     eprintln!("bad-input cases: {counts:?}, total {total}");
@@ -1193,6 +1312,7 @@ fn the_catalogue_has_at_least_45_cases() {
         .chain(&physics_cases())
         .chain(&output_cases())
         .chain(&cli_cases())
+        .chain(&monitoring_cases())
     {
         assert!(
             names.insert(case.name.clone()),

@@ -216,7 +216,8 @@ fn write_fixture<W: Write + Seek>(sink: &mut McapSink<W>) -> Written {
                     axle_load_n: vec![59e3, 61e3],
                     gross_weight_n: 120e3,
                     axle_pattern: "1-1".into(),
-                    flags: vec!["speed_change".into()],
+                    flags: vec!["low_speed".into()],
+                    ..Default::default()
                 }
             );
             put!(

@@ -230,6 +230,10 @@ fn scenario_strategy() -> impl Strategy<Value = Scenario> {
                     rate_hz: d.rate_fraction * solver_rate_hz,
                     noise_density: d.noise,
                     gauge_depth_m: None,
+                    preset: None,
+                    chain: None,
+                    daq_node: None,
+                    faults: None,
                 })
                 .collect();
             s
@@ -281,14 +285,11 @@ fn record_floats(record: &Record) -> Vec<(&'static str, f64)> {
             );
         }
         Record::Wim { record, .. } => {
-            out.push(("wim.speed_m_s", record.speed_m_s));
-            out.extend(
-                record
-                    .axle_spacing_m
-                    .iter()
-                    .map(|&v| ("wim.axle_spacing_m", v)),
-            );
-            out.extend(record.axle_load_n.iter().map(|&v| ("wim.axle_load_n", v)));
+            let m = &record.measurement;
+            out.push(("wim.speed_m_s", m.speed_m_s));
+            out.push(("wim.gross_weight_n", m.gross_weight_n));
+            out.extend(m.axle_spacing_m.iter().map(|&v| ("wim.axle_spacing_m", v)));
+            out.extend(m.axle_load_n.iter().map(|&v| ("wim.axle_load_n", v)));
         }
         Record::Event { .. } => {}
     }

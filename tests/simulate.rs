@@ -112,7 +112,7 @@ fn wim_loads_are_the_tyre_forces_at_the_strip() {
         .iter()
         .filter_map(|r| {
             if let Record::Wim { record, .. } = r {
-                Some(record.clone())
+                Some(record.measurement.clone())
             } else {
                 None
             }
@@ -128,7 +128,7 @@ fn wim_loads_are_the_tyre_forces_at_the_strip() {
         .iter()
         .filter_map(|r| {
             if let Record::Wim { record, .. } = r {
-                Some(record.clone())
+                Some(record.measurement.clone())
             } else {
                 None
             }

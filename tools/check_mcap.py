@@ -10,7 +10,8 @@ Checks, per file:
 - the summary statistics (message count per channel, start and end time, schema, channel,
   metadata and attachment counts) equal what was read;
 - log_time is never 0, never decreases through the file, equals publish_time and the
-  message's ``timestamp`` field;
+  message's ``timestamp`` field (on the measured topics of sensors on a DAQ node clock,
+  channel metadata ``daq_node``, the timestamp is the node's: within 1 s of log_time);
 - sequence counts 1, 2, 3 ... on every channel;
 - metadata records ``bridgetwin``, ``scenario`` and ``bridge_model`` exist (switchable).
 
@@ -18,6 +19,9 @@ Prints one ``OK`` line per valid file; otherwise ``FAIL`` lines on stderr, exit 
 """
 
 from __future__ import annotations
+
+# A DAQ node's clock error (offset + drift between resyncs) stays far below this.
+NODE_CLOCK_MAX_ERROR_NS = 1_000_000_000
 
 import argparse
 import sys
@@ -110,11 +114,18 @@ def check_messages(path: str, problems: Problems) -> tuple[dict, dict]:
                 problems.add(f"{topic}: message {schema.name} has no timestamp field")
             else:
                 stamp_ns = decoded.timestamp.seconds * 1_000_000_000 + decoded.timestamp.nanos
-                problems.check(
-                    stamp_ns == t_ns,
-                    f"{topic}: timestamp field {stamp_ns} != log_time {t_ns}",
-                    f"{topic} timestamp",
-                )
+                if "daq_node" in channel.metadata:
+                    problems.check(
+                        abs(stamp_ns - t_ns) <= NODE_CLOCK_MAX_ERROR_NS,
+                        f"{topic}: node timestamp {stamp_ns} more than 1 s from log_time {t_ns}",
+                        f"{topic} node timestamp",
+                    )
+                else:
+                    problems.check(
+                        stamp_ns == t_ns,
+                        f"{topic}: timestamp field {stamp_ns} != log_time {t_ns}",
+                        f"{topic} timestamp",
+                    )
             per_channel[channel.id] += 1
             previous_ns = t_ns
             first_ns = t_ns if first_ns is None else min(first_ns, t_ns)

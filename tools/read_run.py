@@ -13,8 +13,10 @@ Messages are decoded with the schema stored in the file itself (the official `mc
 `mcap-protobuf-support` packages), so no generated code is needed and new fields simply
 appear as new arrays. What a topic gives, as a dict of numpy arrays:
 
-- ``log_time_ns``: Unix-epoch ns (int64); ``time_s``: seconds since the first message of
-  the file. ``log_time`` equals each message's ``timestamp`` field.
+- ``log_time_ns``: Unix-epoch ns (int64), the true time; ``time_s``: seconds since the
+  first message of the file; ``timestamp_ns``: the message's own stamp, equal to the log
+  time except on the measured topics of sensors on a DAQ node with a clock model, where it
+  is the node's clock (offset, drift, resync). Use it as a real installation's user would.
 - every singular field by its name (units are part of the names); a Timestamp field
   such as ``entry_time`` becomes ``entry_time_ns``; a map field becomes ``name.key``.
 - repeated numbers: a 2-D array (message x index) when all messages have the same length
@@ -144,8 +146,6 @@ def _add_message(rows: list[dict], nested: dict[str, list[dict]], msg: Any, log_
         return
     row: dict[str, Any] = {"log_time_ns": log_time_ns}
     for field in msg.DESCRIPTOR.fields:
-        if field.name == "timestamp":
-            continue  # equal to log_time by contract
         value = getattr(msg, field.name)
         if _is_map(field):
             row.update({f"{field.name}.{k}": v for k, v in value.items()})
@@ -182,6 +182,7 @@ def _add_singular(row: dict, field: FieldDescriptor, value: Any, prefix: str) ->
 def _add_block(rows: list[dict], msg: Any, log_time_ns: int) -> None:
     """One row per sample; sample i is at log_time + i * sample_period_ns."""
     period_ns = msg.sample_period_ns
+    stamp_ns = msg.timestamp.seconds * 1_000_000_000 + msg.timestamp.nanos
     columns: dict[str, list] = {}
     for field in msg.DESCRIPTOR.fields:
         if field.is_repeated and field.cpp_type != FieldDescriptor.CPPTYPE_MESSAGE:
@@ -191,7 +192,7 @@ def _add_block(rows: list[dict], msg: Any, log_time_ns: int) -> None:
             columns[name] = list(getattr(msg, field.name))
     count = max((len(v) for v in columns.values()), default=0)
     for i in range(count):
-        row = {"log_time_ns": log_time_ns + i * period_ns}
+        row = {"log_time_ns": log_time_ns + i * period_ns, "timestamp_ns": stamp_ns + i * period_ns}
         row.update({k: v[i] for k, v in columns.items() if i < len(v)})
         rows.append(row)
 

@@ -8,6 +8,7 @@
 //! reference (FE 400 elements, dt = 0.25 ms) on its class A road: the relative errors of
 //! the peak midspan deflection and the peak tyre force.
 
+pub mod chains;
 mod end_to_end;
 mod report;
 pub mod setup;
@@ -83,6 +84,8 @@ pub struct BenchReport {
     pub rows: Vec<BenchRow>,
     pub reference: ReferenceSummary,
     pub end_to_end: EndToEnd,
+    /// 16 realistic measurement chains against ideal sensors.
+    pub chains: chains::ChainCost,
     pub wall_s: f64,
 }
 
@@ -105,12 +108,15 @@ pub fn run(quick: bool, progress: &mut dyn FnMut(&str)) -> Result<BenchReport> {
     }
     progress("end to end, default scenario");
     let end_to_end = end_to_end::measure(if quick { 3 } else { 7 })?;
+    progress("measurement chains: 16 channels, ideal vs mems_lownoise + clocks + faults");
+    let chains = chains::measure(if quick { 1 } else { 5 })?;
     Ok(BenchReport {
         quick,
         nodes: node_counts(quick).to_vec(),
         rows,
         reference: accuracy.summary(),
         end_to_end,
+        chains,
         wall_s: started.elapsed().as_secs_f64(),
     })
 }

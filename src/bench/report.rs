@@ -129,6 +129,19 @@ fn end_to_end_lines(t: &mut String, r: &BenchReport) {
          {:.2} on one thread, as a sweep job)",
         e.end_to_end_over_writing_only, e.one_thread_over_writing_only
     );
+    let c = &r.chains;
+    let _ = writeln!(
+        t,
+        "measurement chains, {} accelerometers at 100 Hz, {:.0} s simulated (ambient + a \
+         truck; median of {}):\n  ideal sensors {:>8.1} ms\n  mems_lownoise + node clocks \
+         + faults {:>8.1} ms\n  ratio {:.2} (target <= 1.5)",
+        c.channels,
+        c.simulated_s,
+        c.repetitions,
+        1e3 * c.ideal_s,
+        1e3 * c.realistic_s,
+        c.ratio
+    );
     let _ = writeln!(t, "bench wall time {:.1} s", r.wall_s);
 }
 
@@ -191,6 +204,14 @@ mod tests {
                 one_thread_over_writing_only: 3.33,
                 repetitions: 3,
             },
+            chains: crate::bench::chains::ChainCost {
+                channels: 16,
+                simulated_s: 60.0,
+                ideal_s: 0.5,
+                realistic_s: 0.6,
+                ratio: 1.2,
+                repetitions: 1,
+            },
             wall_s: 3.5,
         };
         let text = table(&report);
@@ -208,5 +229,6 @@ mod tests {
         assert!(text.contains("converged: passes its check"));
         assert!(text.contains("156.7x real time"));
         assert!(text.contains("end_to_end / writing_only = 2.95"));
+        assert!(text.contains("ratio 1.20 (target <= 1.5)"));
     }
 }

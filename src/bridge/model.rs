@@ -211,6 +211,17 @@ impl BridgeModel {
         }
     }
 
+    /// [`BridgeModel::point_operator`] at each of `xs_m`.
+    pub fn point_operators(&self, xs_m: &[f64], quantity: PointQuantity) -> Vec<SparseVec> {
+        xs_m.iter()
+            .map(|&x| {
+                let mut op = SparseVec::default();
+                self.point_operator(x, quantity, &mut op);
+                op
+            })
+            .collect()
+    }
+
     /// Convenience: the value of `quantity` at `x_m` for a state vector.
     pub fn read(&self, x_m: f64, quantity: PointQuantity, state: &DVector<f64>) -> f64 {
         let mut op = SparseVec::with_capacity(self.n_dof());

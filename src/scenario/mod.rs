@@ -45,6 +45,13 @@ pub struct Scenario {
     pub sensors: Vec<SensorSpec>,
     #[serde(default)]
     pub wim_stations: Vec<WimStationSpec>,
+    /// Band-limited random loads on the bridge (wind, micro-tremor), their level set by the
+    /// RMS acceleration they cause; none by default.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ambient: Option<crate::excitation::AmbientSpec>,
+    /// DAQ nodes whose clocks stamp their sensors' samples (`sensors.N.daq_node`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub daq_nodes: Vec<crate::daq::DaqNodeSpec>,
     #[serde(default)]
     pub output: OutputSection,
 }
@@ -218,12 +225,28 @@ pub struct SensorSpec {
     pub position_m: f64,
     /// DAQ sample rate (Hz, <= 1/dt; need not divide it).
     pub rate_hz: f64,
-    /// White-noise density in the unit of the sensor per sqrt(Hz) (default by kind).
+    /// White-noise density in the unit of the sensor per sqrt(Hz) (default by kind; with a
+    /// preset or chain, it overrides the chain's `noise_density`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub noise_density: Option<f64>,
     /// Strain gauges: distance of the gauge below the neutral axis (m, default 0.8).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub gauge_depth_m: Option<f64>,
+    /// Measurement-chain preset (`ideal`, `mems_lownoise`, `piezo_seismic`,
+    /// `force_balance`, `mems_consumer`, `strain_foil`); with neither `preset` nor `chain`
+    /// the channel adds white noise only (`noise_density`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub preset: Option<crate::sensor::chain::SensorPreset>,
+    /// Overrides of the preset, field by field (`[sensors.chain]`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub chain: Option<crate::sensor::chain::ChainSpec>,
+    /// Id of the DAQ node (`[[daq_nodes]]`) whose clock samples and stamps this sensor;
+    /// none: an ideal clock (stamps = true instants).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub daq_node: Option<String>,
+    /// Faults of the measured stream, each labelled on `/truth/faults` and `/events`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub faults: Option<crate::daq::FaultSpec>,
 }
 
 /// A weigh-in-motion strip on the road.
@@ -233,6 +256,14 @@ pub struct WimStationSpec {
     pub id: String,
     /// Strip position on the road axis (m; negative = on the approach).
     pub position_m: f64,
+    /// What the station reports: `{ kind = "ideal" }` (default: the dynamic tyre force
+    /// at the strip), `{ kind = "cost323", class = "B+(7)" }`, `{ kind = "physics",
+    /// noise_rel = 0.02 }`.
+    #[serde(default)]
+    pub model: crate::wim::WimModelSpec,
+    /// Thresholds of the off-scale and low-speed flags.
+    #[serde(default)]
+    pub limits: crate::wim::WimLimits,
 }
 
 /// How messages are laid out.

@@ -54,6 +54,29 @@ pub struct ResolvedSensor {
     pub spec: SensorSpec,
     pub noise_density: f64,
     pub gauge_depth_m: f64,
+    /// Index into `scenario.daq_nodes` of the node whose clock samples this sensor.
+    pub node: Option<usize>,
+    /// The measurement chain when the sensor has a preset or chain table (its white noise
+    /// then replaces the channel's plain `noise_density`).
+    pub chain: Option<crate::sensor::chain::ResolvedChain>,
+}
+
+impl ResolvedSensor {
+    /// The white-noise density the channel itself adds: 0 when the chain has the noise.
+    pub fn channel_noise_density(&self) -> f64 {
+        match self.chain {
+            Some(_) => 0.0,
+            None => self.noise_density,
+        }
+    }
+
+    /// The sensor model's name for channel metadata.
+    pub fn model_name(&self) -> &'static str {
+        match &self.chain {
+            Some(c) => c.preset().name(),
+            None => "white_noise",
+        }
+    }
 }
 
 /// A validated scenario and its derived values.
@@ -79,7 +102,9 @@ impl Resolved {
 
     /// Whether some sensor has faults configured (the run then writes `/truth/faults`).
     pub fn has_faults(&self) -> bool {
-        false
+        self.sensors
+            .iter()
+            .any(|s| s.spec.faults.as_ref().is_some_and(|f| !f.is_empty()))
     }
 
     /// Questionable but legal inputs, one line each, naming the field and its value: a
@@ -266,6 +291,10 @@ impl Scenario {
         }
 
         let vehicles = self.resolve_vehicles(dt_ns)?;
+        self.validate_daq_nodes()?;
+        if let Some(ambient) = &self.ambient {
+            ambient.validate("ambient", self.bridge.span_m, dt_s)?;
+        }
         let sensors = self.resolve_sensors(dt_ns)?;
         let mut wim_ids = BTreeSet::new();
         for (i, w) in self.wim_stations.iter().enumerate() {
@@ -283,6 +312,8 @@ impl Scenario {
                     "is used twice",
                 ));
             }
+            crate::wim::WimStation::new(&w.model, &format!("wim_stations.{i}.model"))?
+                .with_limits(w.limits, &format!("wim_stations.{i}.limits"))?;
             let p = w.position_m;
             if !(p.is_finite() && p > -self.road.approach_m && p < 0.0) {
                 return Err(Error::invalid(
@@ -583,14 +614,98 @@ impl Scenario {
                 child_rng(self.seed, "validate"),
                 &path,
             )?;
+            let node = self.resolve_daq_node(s, &path, solver_rate_hz)?;
+            let chain = resolve_chain(s, &path)?;
+            if let Some(faults) = &s.faults {
+                faults.validate(&format!("{path}.faults"))?;
+            }
             out.push(ResolvedSensor {
                 spec: s.clone(),
                 noise_density,
                 gauge_depth_m,
+                node,
+                chain,
             });
         }
         Ok(out)
     }
+
+    /// Node ids unique, clocks valid.
+    fn validate_daq_nodes(&self) -> Result<()> {
+        let mut ids = BTreeSet::new();
+        for (i, node) in self.daq_nodes.iter().enumerate() {
+            node.validate(&format!("daq_nodes.{i}"))?;
+            if !ids.insert(node.id.as_str()) {
+                return Err(Error::invalid(
+                    format!("daq_nodes.{i}.id"),
+                    format!("\"{}\"", node.id),
+                    "is used twice (node ids must be unique)",
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// The index of the sensor's node; its clock must suit the sensor's rate, and a
+    /// clocked sensor must sample at most half the solver rate (drift and jitter move its
+    /// instants between solver steps, which the anti-alias filter interpolates).
+    fn resolve_daq_node(
+        &self,
+        s: &SensorSpec,
+        path: &str,
+        solver_rate_hz: f64,
+    ) -> Result<Option<usize>> {
+        let Some(id) = &s.daq_node else {
+            return Ok(None);
+        };
+        let Some(index) = self.daq_nodes.iter().position(|n| &n.id == id) else {
+            let known: Vec<&str> = self.daq_nodes.iter().map(|n| n.id.as_str()).collect();
+            return Err(Error::invalid(
+                format!("{path}.daq_node"),
+                format!("\"{id}\""),
+                format!("is not a [[daq_nodes]] id (known: {known:?})"),
+            ));
+        };
+        if s.rate_hz > 0.5 * solver_rate_hz {
+            return Err(Error::invalid(
+                format!("{path}.rate_hz"),
+                num(s.rate_hz),
+                format!(
+                    "must be at most half the solver rate ({} Hz) for a sensor on a DAQ node \
+                     clock",
+                    0.5 * solver_rate_hz
+                ),
+            ));
+        }
+        self.daq_nodes[index]
+            .clock
+            .validate_for_rate(&format!("daq_nodes.{index}.clock"), s.rate_hz)?;
+        Ok(Some(index))
+    }
+}
+
+/// The sensor's measurement chain, when it has a preset or a chain table: the preset's
+/// values, overridden by the chain table, then by `noise_density` if given.
+fn resolve_chain(
+    s: &SensorSpec,
+    path: &str,
+) -> Result<Option<crate::sensor::chain::ResolvedChain>> {
+    use crate::sensor::chain::{resolve, TransducerKind};
+    if s.preset.is_none() && s.chain.is_none() {
+        return Ok(None);
+    }
+    let kind = match s.kind {
+        SensorKind::Accelerometer => TransducerKind::Accelerometer,
+        SensorKind::Strain => TransducerKind::Strain,
+        SensorKind::Displacement => TransducerKind::Displacement,
+    };
+    let mut spec = s.chain.clone().unwrap_or_default();
+    if let Some(d) = s.noise_density {
+        spec.noise_density = Some(d);
+    }
+    let chain = resolve(s.preset.unwrap_or_default(), kind, &spec, path)?;
+    chain.check_rate(s.rate_hz, &format!("{path}.rate_hz"))?;
+    Ok(Some(chain))
 }
 
 /// RFC 3339 -> Unix ns (must be after 1970).

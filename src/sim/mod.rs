@@ -4,6 +4,7 @@
 //! record waits in a small merge buffer until no earlier record can still appear: memory
 //! is bounded by that latency, not by the run length.
 
+mod daq;
 pub mod record;
 mod tap;
 mod tracking;
@@ -13,17 +14,19 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use crate::bridge::{BridgeModel, ModelSpec, PointQuantity, SparseVec};
 use crate::error::{Error, Result};
+use crate::excitation::{AmbientField, AMBIENT_STREAM};
 use crate::road::RoadProfile;
 use crate::scenario::{Resolved, SensorKind};
-use crate::sensor::{child_rng, AntiAliasOptions, ChannelSpec, SensorChannel, WhiteNoise};
+use crate::sensor::child_rng;
 use crate::solver::{
     CoupledSolver, CoupledVehicle, NewmarkCoefficients, RoadSurface, SolveMode, Storage,
 };
 
+pub use daq::chain_stages;
 pub use record::{
     AxleState, EventLevel, Record, Recorder, VecRecorder, VehicleRecord, WimRecordData,
 };
-pub use tap::{Quantities, SensorTap, TapSample};
+pub use tap::{Quantities, SensorTap};
 use tracking::Tracker;
 
 impl RoadSurface for RoadProfile {
@@ -153,8 +156,8 @@ pub fn run_controlled(
             v.entry_step,
         ));
     }
-    let solver_rate_hz = 1e9 / resolved.dt_ns as f64;
     let mut taps = Vec::new();
+    let mut clip_counters = Vec::new();
     let mut ops = Vec::new();
     for (i, sensor) in resolved.sensors.iter().enumerate() {
         let measured_index = match sensor.spec.kind {
@@ -162,9 +165,15 @@ pub fn run_controlled(
             SensorKind::Accelerometer => 2,
             SensorKind::Strain => 3,
         };
+        let (channel, clipped) = daq::sensor_channel(resolved, sensor, i)?;
+        if let Some(counter) = clipped {
+            clip_counters.push((i, counter));
+        }
         taps.push(SensorTap::new(
-            sensor_channel(solver_rate_hz, s.seed, sensor, i)?,
+            i,
+            channel,
             measured_index,
+            daq::fault_injector(resolved, sensor, i)?,
         ));
         let x = sensor.spec.position_m;
         let mut d = SparseVec::with_capacity(model.n_dof());
@@ -179,7 +188,7 @@ pub fn run_controlled(
     let mut merger = Merger {
         truth: VecDeque::new(),
     };
-    let mut tracker = Tracker::new(resolved, model.span_m());
+    let mut tracker = Tracker::new(resolved, model.span_m())?;
     let mut shape_ops: Vec<SparseVec> = model
         .shape_positions_m()
         .iter()
@@ -198,6 +207,17 @@ pub fn run_controlled(
         &mut midspan,
     );
     let mut peak_midspan_m = 0.0f64;
+    let mut resyncs = daq::Resyncs::new(resolved)?;
+    let mut ambient = match &s.ambient {
+        Some(spec) => Some(AmbientField::new(
+            spec,
+            model,
+            dt_s,
+            child_rng(s.seed, AMBIENT_STREAM),
+            "ambient",
+        )?),
+        None => None,
+    };
 
     let mut stopped_at = None;
     for step in 0..=resolved.steps {
@@ -209,9 +229,13 @@ pub fn run_controlled(
                 stopped_at = Some(step - 1);
                 break;
             }
+            if let Some(field) = ambient.as_mut() {
+                field.fill(&mut solver.external_load);
+            }
             solver.advance()?;
         }
         let t_ns = step * resolved.dt_ns;
+        resyncs.announce_until(t_ns, &mut merger.truth);
         check_finite(&solver, &shape_ops, step, (dt_s, &hint))?;
         peak_midspan_m = peak_midspan_m.max(midspan.dot(&solver.bridge.state.u).abs());
         for (tap, (d, m, k)) in taps.iter_mut().zip(&ops) {
@@ -242,6 +266,19 @@ pub fn run_controlled(
         tap.flush();
     }
     tracker.finish(&solver, &mut merger.truth);
+    for (i, counter) in &clip_counters {
+        if counter.get() > 0 {
+            merger.truth.push_back(Record::Event {
+                t_ns: stopped_at.unwrap_or(resolved.steps) * resolved.dt_ns,
+                level: EventLevel::Warning,
+                text: format!(
+                    "sensor {}: {} samples clipped at the ADC range (off-scale)",
+                    resolved.sensors[*i].spec.id,
+                    counter.get()
+                ),
+            });
+        }
+    }
     if let Some(step) = stopped_at {
         merger.truth.push_back(Record::Event {
             t_ns: step * resolved.dt_ns,
@@ -276,29 +313,6 @@ pub fn run_controlled(
         stopped_at_s: stopped_at.map(|step| step as f64 * dt_s),
         peak_midspan_deflection_m: peak_midspan_m,
     })
-}
-
-/// The DAQ channel of sensor `index`: anti-alias filter and resampling to its rate, and
-/// its white self-noise on the sensor's own random stream.
-fn sensor_channel(
-    solver_rate_hz: f64,
-    seed: u64,
-    sensor: &crate::scenario::ResolvedSensor,
-    index: usize,
-) -> Result<SensorChannel> {
-    let spec = ChannelSpec {
-        rate_hz: sensor.spec.rate_hz,
-        anti_alias: AntiAliasOptions::default(),
-        noise: WhiteNoise {
-            density_per_sqrt_hz: sensor.noise_density,
-        },
-    };
-    SensorChannel::new(
-        solver_rate_hz,
-        &spec,
-        child_rng(seed, &format!("sensor/{}", sensor.spec.id)),
-        &format!("sensors.{index}"),
-    )
 }
 
 /// What to try when a run diverges: the likeliest cause first.
@@ -385,13 +399,7 @@ impl Merger {
             let record = if source == 0 {
                 self.truth.pop_front()
             } else {
-                taps[source - 1].pop().map(|s| Record::Sensor {
-                    sensor: source - 1,
-                    t_ns: s.t_ns,
-                    stamp_ns: s.stamp_ns,
-                    measured: Some(s.measured),
-                    truth: s.truth,
-                })
+                taps[source - 1].pop()
             };
             if let Some(r) = record {
                 recorder.record(r)?;

@@ -39,15 +39,11 @@ pub struct VehicleRecord {
     pub parameters: Vec<(String, f64)>,
 }
 
-/// One WIM record.
+/// One WIM record: what station `station` (index into `wim_stations`) reports.
 #[derive(Debug, Clone, PartialEq)]
 pub struct WimRecordData {
     pub station: usize,
-    pub vehicle_id: u32,
-    pub lane: u32,
-    pub speed_m_s: f64,
-    pub axle_spacing_m: Vec<f64>,
-    pub axle_load_n: Vec<f64>,
+    pub measurement: crate::wim::WimMeasurement,
 }
 
 /// A record with its time.
@@ -64,12 +60,13 @@ pub enum Record {
         measured: Option<f64>,
         truth: Quantities,
     },
-    /// A labelled fault interval of one sensor's measured stream, written at its start.
+    /// A labelled fault interval of one sensor's measured stream, written at its start;
+    /// `end_ns` (exclusive) is `None` for a fault lasting to the end of the run.
     Fault {
         t_ns: u64,
         sensor: usize,
         kind: &'static str,
-        end_ns: u64,
+        end_ns: Option<u64>,
         magnitude: f64,
     },
     AxleLoads {

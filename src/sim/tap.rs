@@ -11,23 +11,35 @@
 
 use std::collections::VecDeque;
 
+use super::record::Record;
+use crate::daq::{FaultInjector, FaultLabel, OPEN_END_NS};
 use crate::sensor::{hermite, SensorChannel, HERMITE_LOOKAHEAD, HERMITE_LOOKBACK};
 
 /// Response quantities at a point, output sign convention (downward positive).
 /// Order: displacement (m), velocity (m/s), acceleration (m/s^2), strain (microstrain), moment (N m).
 pub type Quantities = [f64; 5];
 
-/// One sample ready for output.
-#[derive(Debug, Clone, Copy)]
-pub struct TapSample {
-    /// True sampling instant (ns since the run start).
-    pub t_ns: u64,
-    /// The node's stamp for it (ns since the run start).
-    pub stamp_ns: i64,
-    /// Output sample index.
-    pub k: u64,
-    pub measured: f64,
-    pub truth: Quantities,
+/// The record of a fault label found at the sample at `sample_ns`.
+fn fault_record(sensor: usize, label: &FaultLabel, sample_ns: u64) -> Record {
+    Record::Fault {
+        t_ns: label.start_ns.max(sample_ns),
+        sensor,
+        kind: label.kind.name(),
+        end_ns: (label.end_ns != OPEN_END_NS).then_some(label.end_ns),
+        magnitude: label.magnitude,
+    }
+}
+
+/// A sample as the channel hands it over, with the truth of every quantity interpolated
+/// at its instant.
+fn sample_record(sensor: usize, history: &History, s: crate::sensor::ChannelSample) -> Record {
+    Record::Sensor {
+        sensor,
+        t_ns: s.t_ns,
+        stamp_ns: s.stamp_ns,
+        measured: Some(s.measured),
+        truth: history.interpolate(s.n0, s.frac),
+    }
 }
 
 /// The last `cap` solver samples of the five quantities, addressed by solver index.
@@ -71,26 +83,40 @@ impl History {
     }
 }
 
-/// Channel + truth history of one sensor.
+/// Channel + truth history + faults of one sensor.
 pub struct SensorTap {
+    /// Index of the sensor in the scenario.
+    sensor: usize,
     channel: SensorChannel,
     history: History,
     /// Index into `Quantities` of what the sensor measures.
     pub measured_index: usize,
-    ready: VecDeque<TapSample>,
+    faults: Option<FaultInjector>,
+    labels: Vec<FaultLabel>,
+    /// Sensor samples and fault labels, in time order.
+    ready: VecDeque<Record>,
     emitted: u64,
 }
 
 impl SensorTap {
-    /// A tap around `channel` (built with the sensor's rate, chain and clock), measuring
-    /// quantity `measured_index` of [`Quantities`].
-    pub fn new(channel: SensorChannel, measured_index: usize) -> Self {
+    /// A tap for sensor `sensor` around `channel` (built with the sensor's rate, chain
+    /// and clock), measuring quantity `measured_index` of [`Quantities`], with the
+    /// sensor's faults (`None`: none).
+    pub fn new(
+        sensor: usize,
+        channel: SensorChannel,
+        measured_index: usize,
+        faults: Option<FaultInjector>,
+    ) -> Self {
         let (_, width) = channel.window_geometry();
         SensorTap {
+            sensor,
             channel,
             // The channel's window reaches HERMITE_LOOKBACK (or more) samples behind n0.
             history: History::new(width),
             measured_index,
+            faults: faults.filter(FaultInjector::enabled),
+            labels: Vec::with_capacity(4),
             ready: VecDeque::with_capacity(8),
             emitted: 0,
         }
@@ -101,52 +127,71 @@ impl SensorTap {
         self.history.push(values);
         let measured = values[self.measured_index];
         let Self {
+            sensor,
             channel,
             history,
             ready,
-            emitted,
             ..
         } = self;
+        let mut count = 0;
         channel.push(measured, |s| {
-            ready.push_back(TapSample {
-                t_ns: s.t_ns,
-                stamp_ns: s.stamp_ns,
-                k: *emitted,
-                measured: s.measured,
-                truth: history.interpolate(s.n0, s.frac),
-            });
-            *emitted += 1;
+            ready.push_back(sample_record(*sensor, history, s));
+            count += 1;
         });
+        self.apply_faults(count);
     }
 
     /// Flushes the filter at the end of the run.
     pub fn flush(&mut self) {
         let Self {
+            sensor,
             channel,
             history,
             ready,
-            emitted,
             ..
         } = self;
+        let mut count = 0;
         channel.flush(|s| {
-            ready.push_back(TapSample {
-                t_ns: s.t_ns,
-                stamp_ns: s.stamp_ns,
-                k: *emitted,
-                measured: s.measured,
-                truth: history.interpolate(s.n0, s.frac),
-            });
-            *emitted += 1;
+            ready.push_back(sample_record(*sensor, history, s));
+            count += 1;
         });
+        self.apply_faults(count);
     }
 
-    /// The time of the next sample, if any.
+    /// Passes the last `count` queued samples through the faults (a lost sample keeps its
+    /// truth, with `measured = None`) and queues the labels each sample starts just before
+    /// it. A label is stamped with its first affected sample: a configured outage may begin
+    /// between two samples, and an earlier stamp could precede records already written.
+    fn apply_faults(&mut self, count: usize) {
+        let Some(faults) = self.faults.as_mut() else {
+            return;
+        };
+        let mut i = self.ready.len() - count;
+        while i < self.ready.len() {
+            if let Some(Record::Sensor { t_ns, measured, .. }) = self.ready.get_mut(i) {
+                let t_ns = *t_ns;
+                if let Some(value) = *measured {
+                    *measured = faults.apply(self.emitted, t_ns, value);
+                }
+                self.emitted += 1;
+                faults.take_labels(&mut self.labels);
+                for label in self.labels.drain(..) {
+                    self.ready
+                        .insert(i, fault_record(self.sensor, &label, t_ns));
+                    i += 1;
+                }
+            }
+            i += 1;
+        }
+    }
+
+    /// The time of the next record, if any.
     pub fn next_time_ns(&self) -> Option<u64> {
-        self.ready.front().map(|s| s.t_ns)
+        self.ready.front().map(Record::t_ns)
     }
 
-    /// Removes the next sample.
-    pub fn pop(&mut self) -> Option<TapSample> {
+    /// Removes the next record (a sample or a fault label).
+    pub fn pop(&mut self) -> Option<Record> {
         self.ready.pop_front()
     }
 

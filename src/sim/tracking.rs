@@ -3,9 +3,19 @@
 
 use std::collections::VecDeque;
 
+use rand_chacha::ChaCha8Rng;
+
 use super::record::{AxleState, EventLevel, Record, VehicleRecord, WimRecordData};
+use crate::error::Result;
 use crate::scenario::Resolved;
+use crate::sensor::child_rng;
 use crate::solver::CoupledSolver;
+use crate::wim::{WimPassage, WimStation};
+
+/// Another vehicle with an axle this close to a WIM strip when a vehicle's last axle
+/// crosses it makes the record a multiple presence (m): the strip's loop detectors and
+/// the two vehicles' axle sequences overlap.
+const MULTIPLE_PRESENCE_WINDOW_M: f64 = 10.0;
 
 struct VehicleTrack {
     lane: u32,
@@ -29,13 +39,27 @@ pub struct Tracker {
     span_m: f64,
     dt_ns: u64,
     wim_positions_m: Vec<f64>,
+    /// Each station's model and its random stream (`wim/<id>`).
+    stations: Vec<(WimStation, ChaCha8Rng)>,
     tracks: Vec<VehicleTrack>,
     /// Axle positions of the vehicle being observed (reused: no allocation per step).
     x_m: Vec<f64>,
 }
 
 impl Tracker {
-    pub fn new(resolved: &Resolved, span_m: f64) -> Self {
+    pub fn new(resolved: &Resolved, span_m: f64) -> Result<Self> {
+        let seed = resolved.scenario.seed;
+        let models = resolved
+            .scenario
+            .wim_stations
+            .iter()
+            .enumerate()
+            .map(|(i, w)| {
+                let station = WimStation::new(&w.model, &format!("wim_stations.{i}.model"))?
+                    .with_limits(w.limits, &format!("wim_stations.{i}.limits"))?;
+                Ok((station, child_rng(seed, &format!("wim/{}", w.id))))
+            })
+            .collect::<Result<Vec<_>>>()?;
         let stations = resolved.scenario.wim_stations.len();
         let tracks: Vec<VehicleTrack> = resolved
             .vehicles
@@ -58,7 +82,8 @@ impl Tracker {
                 }
             })
             .collect();
-        Tracker {
+        Ok(Tracker {
+            stations: models,
             span_m,
             dt_ns: resolved.dt_ns,
             wim_positions_m: resolved
@@ -69,7 +94,7 @@ impl Tracker {
                 .collect(),
             x_m: Vec::with_capacity(tracks.iter().map(|t| t.prev_x_m.len()).max().unwrap_or(0)),
             tracks,
-        }
+        })
     }
 
     /// The axles of every vehicle on the road.
@@ -127,9 +152,22 @@ impl Tracker {
                 }
                 if !track.wim_done[s] && track.wim[s].iter().all(Option::is_some) {
                     track.wim_done[s] = true;
+                    let near = |o: &crate::solver::CoupledVehicle| {
+                        o.id != v.id
+                            && o.is_active()
+                            && (0..o.dynamics.axles.len()).any(|j| {
+                                (o.axle_x_m(j, step, dt_s) - p).abs() < MULTIPLE_PRESENCE_WINDOW_M
+                            })
+                    };
+                    let multiple_presence = solver.vehicles.iter().any(near);
+                    let (station, rng) = &mut self.stations[s];
+                    let passage = wim_passage(s, v, track, multiple_presence);
                     queue.push_back(Record::Wim {
                         t_ns,
-                        record: wim_record(s, v, track),
+                        record: WimRecordData {
+                            station: s,
+                            measurement: station.measure(&passage, rng),
+                        },
                     });
                 }
             }
@@ -229,21 +267,26 @@ fn spacings(v: &crate::solver::CoupledVehicle) -> Vec<f64> {
         .collect()
 }
 
-fn wim_record(
+/// What the strip of station `station` saw of vehicle `v`.
+fn wim_passage(
     station: usize,
     v: &crate::solver::CoupledVehicle,
     track: &VehicleTrack,
-) -> WimRecordData {
-    WimRecordData {
-        station,
+    multiple_presence: bool,
+) -> WimPassage {
+    let crossings = &track.wim[station];
+    WimPassage {
         vehicle_id: v.id,
         lane: track.lane,
+        t_first_axle_ns: crossings[0].map_or(0, |(t, _)| t),
         speed_m_s: track.speed_m_s,
         axle_spacing_m: spacings(v),
-        axle_load_n: track.wim[station]
+        static_axle_load_n: v.dynamics.axles.iter().map(|a| a.static_load_n).collect(),
+        dynamic_axle_load_n: crossings
             .iter()
             .map(|c| c.map(|(_, f)| f).unwrap_or(f64::NAN))
             .collect(),
+        multiple_presence,
     }
 }
 

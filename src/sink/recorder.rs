@@ -8,13 +8,15 @@ use std::time::{Duration, Instant};
 use super::blocks::{ClosedBlock, OpenBlock, Pending, Reorder, Stream};
 use super::proto::foxglove::{log::Level, Log};
 use super::proto::v1::{
-    AccelerationSample, AxleLoad, AxleLoads, BridgeState, DisplacementSample, FaultInterval,
-    SampleBlock, SensorTruth, SensorTruthBlock, StrainSample, VehicleTruth, WimRecord,
+    AccelerationSample, AxleGroup as WimAxleGroup, AxleLoad, AxleLoads, BridgeState,
+    DisplacementSample, FaultInterval, SampleBlock, SensorTruth, SensorTruthBlock, StrainSample,
+    VehicleTruth, WimRecord,
 };
 use super::{metadata, timestamp_from_ns, ChannelId, McapSink, Topics};
 use crate::error::Result;
 use crate::scenario::{Layout, Resolved, SensorKind};
 use crate::sim::{EventLevel, Quantities, Record, Recorder};
+use crate::wim::{LoadReference, WimModelSpec};
 
 /// Channel of one sensor.
 struct SensorChannels {
@@ -44,6 +46,8 @@ pub struct McapRecorder<'a, W: Write + Seek> {
     bridge: ChannelId,
     vehicles: ChannelId,
     wim: Vec<(String, ChannelId)>,
+    /// Each station's model, as written in its records ("cost323 B+(7)").
+    wim_models: Vec<String>,
     events: ChannelId,
     /// `/truth/faults`, registered when some sensor has faults configured.
     faults: Option<ChannelId>,
@@ -76,7 +80,7 @@ impl<'a, W: Write + Seek> McapRecorder<'a, W> {
         let sensors = resolved
             .sensors
             .iter()
-            .map(|s| sensor_channels(sink, s, output.layout, output.block_samples))
+            .map(|s| sensor_channels(sink, resolved, s))
             .collect::<Result<Vec<_>>>()?;
         let axle_rate = format!("{}", output.axle_load_rate_hz);
         let axle_loads = sink.add_channel::<AxleLoads>(
@@ -101,16 +105,19 @@ impl<'a, W: Write + Seek> McapRecorder<'a, W> {
             metadata([("content", "one record per vehicle")]),
         )?;
         let mut wim = Vec::new();
+        let mut wim_models = Vec::new();
         for w in &resolved.scenario.wim_stations {
             let position = format!("{}", w.position_m);
+            let model = wim_model_label(&w.model);
             let ch = sink.add_channel::<WimRecord>(
                 &Topics::wim(&w.id)?,
                 metadata([
                     ("position_m", position.as_str()),
-                    ("station_model", "dynamic tyre force at the strip"),
+                    ("station_model", model.as_str()),
                 ]),
             )?;
             wim.push((w.id.clone(), ch));
+            wim_models.push(model);
         }
         let events = sink.add_channel::<Log>(Topics::EVENTS, BTreeMap::new())?;
         let faults = match resolved.has_faults() {
@@ -128,6 +135,7 @@ impl<'a, W: Write + Seek> McapRecorder<'a, W> {
             bridge,
             vehicles,
             wim,
+            wim_models,
             events,
             faults,
             node_position_m,
@@ -325,19 +333,19 @@ impl<'a, W: Write + Seek> McapRecorder<'a, W> {
         time: u64,
         sensor: usize,
         kind: &'static str,
-        end_ns: u64,
+        end_ns: Option<u64>,
         magnitude: f64,
     ) -> Result<()> {
         let Some(channel) = self.faults else {
             return Ok(());
         };
         let id = self.sensors[sensor].id.clone();
-        let end = self.start_time_ns + end_ns;
+        let end = end_ns.map(|e| self.start_time_ns + e);
         let msg = FaultInterval {
             timestamp: Some(timestamp_from_ns(time)),
             sensor_id: id.clone(),
             kind: kind.into(),
-            end_time: Some(timestamp_from_ns(end)),
+            end_time: end.map(timestamp_from_ns),
             magnitude,
         };
         self.sink.write(channel, time, &msg)?;
@@ -348,10 +356,15 @@ impl<'a, W: Write + Seek> McapRecorder<'a, W> {
         let log = Log {
             timestamp: Some(timestamp_from_ns(time)),
             level: Level::Warning as i32,
-            message: format!(
-                "fault {kind} on sensor {id}: {:.3} s, magnitude {magnitude}",
-                (end - time) as f64 * 1e-9
-            ),
+            message: match end {
+                Some(end) => format!(
+                    "fault {kind} on sensor {id}: {:.3} s, magnitude {magnitude}",
+                    end.saturating_sub(time) as f64 * 1e-9
+                ),
+                None => format!(
+                    "fault {kind} on sensor {id}: to the end of the run, magnitude {magnitude}"
+                ),
+            },
             name: "bridgetwin".into(),
             file: String::new(),
             line: 0,
@@ -436,18 +449,38 @@ impl<'a, W: Write + Seek> McapRecorder<'a, W> {
             }
             Record::Wim { record, .. } => {
                 let (station_id, ch) = self.wim[record.station].clone();
+                let m = record.measurement;
                 let msg = WimRecord {
                     timestamp: ts,
                     station_id,
-                    vehicle_id: record.vehicle_id,
-                    lane: record.lane,
-                    speed_m_s: record.speed_m_s,
-                    axle_count: record.axle_load_n.len() as u32,
-                    axle_spacing_m: record.axle_spacing_m.clone(),
-                    gross_weight_n: record.axle_load_n.iter().sum(),
-                    axle_load_n: record.axle_load_n,
-                    axle_pattern: axle_pattern(&record.axle_spacing_m),
-                    flags: Vec::new(),
+                    vehicle_id: m.vehicle_id,
+                    lane: m.lane,
+                    speed_m_s: m.speed_m_s,
+                    axle_count: m.axle_load_n.len() as u32,
+                    axle_spacing_m: m.axle_spacing_m,
+                    gross_weight_n: m.gross_weight_n,
+                    axle_load_n: m.axle_load_n,
+                    axle_pattern: m.axle_pattern,
+                    flags: m.flags.iter().map(|f| f.to_string()).collect(),
+                    groups: m
+                        .groups
+                        .iter()
+                        .map(|g| WimAxleGroup {
+                            first_axle: g.first_axle as u32,
+                            axle_count: g.axle_count as u32,
+                            load_n: g.load_n,
+                        })
+                        .collect(),
+                    fhwa_class: m.fhwa_class.map_or(0, u32::from),
+                    model: self.wim_models[record.station].clone(),
+                    error_reference: match m.truth.reference {
+                        LoadReference::Static => "static",
+                        LoadReference::Dynamic => "dynamic",
+                    }
+                    .into(),
+                    speed_error_rel: m.truth.speed_rel,
+                    gross_weight_error_rel: m.truth.gross_rel,
+                    axle_load_error_rel: m.truth.axle_rel,
                 };
                 self.sink.write(ch, time, &msg)
             }
@@ -510,14 +543,20 @@ impl<W: Write + Seek> Recorder for McapRecorder<'_, W> {
 /// Registers the measured and truth channels of one sensor in the chosen layout.
 fn sensor_channels<W: Write + Seek>(
     sink: &mut McapSink<W>,
+    resolved: &Resolved,
     sensor: &crate::scenario::ResolvedSensor,
-    layout: Layout,
-    block_samples: usize,
 ) -> Result<SensorChannels> {
+    let (layout, block_samples) = (
+        resolved.scenario.output.layout,
+        resolved.scenario.output.block_samples,
+    );
     let spec = &sensor.spec;
     let rate = format!("{}", spec.rate_hz);
     let position = format!("{}", spec.position_m);
-    let density = format!("{}", sensor.noise_density);
+    let density = match &sensor.chain {
+        Some(chain) => format!("{}", chain.chain_parameters().noise_density),
+        None => format!("{}", sensor.noise_density),
+    };
     let layout_name = match layout {
         Layout::Sample => "sample".to_string(),
         Layout::Block => format!("block of {block_samples} samples"),
@@ -526,11 +565,31 @@ fn sensor_channels<W: Write + Seek>(
         ("unit", spec.kind.unit()),
         ("sample_rate_hz", rate.as_str()),
         ("position_m", position.as_str()),
-        ("sensor_model", "white_noise"),
+        ("sensor_model", sensor.model_name()),
         ("noise_density_per_sqrt_hz", density.as_str()),
         ("sign", "downward positive (strain: tension positive)"),
         ("layout", layout_name.as_str()),
     ]);
+    if let Some(chain) = crate::sim::chain_stages(resolved, sensor)? {
+        for (name, value) in chain.parameters {
+            meta.insert(format!("chain.{name}"), format!("{value}"));
+        }
+    }
+    if let Some(node) = sensor.node.map(|i| &resolved.scenario.daq_nodes[i]) {
+        let true_rate = spec.rate_hz * (1.0 + 1e-6 * node.clock.drift_ppm);
+        meta.insert("daq_node".into(), node.id.clone());
+        meta.insert("nominal_sample_rate_hz".into(), rate.clone());
+        meta.insert("true_sample_rate_hz".into(), format!("{true_rate}"));
+        meta.insert(
+            "clock_drift_ppm".into(),
+            format!("{}", node.clock.drift_ppm),
+        );
+        meta.insert("clock_offset_s".into(), format!("{}", node.clock.offset_s));
+        meta.insert(
+            "timestamps".into(),
+            "measured: node clock; truth: true time (node_timestamp holds the node's)".into(),
+        );
+    }
     if spec.kind == SensorKind::Strain {
         meta.insert("gauge_depth_m".into(), format!("{}", sensor.gauge_depth_m));
     }
@@ -570,23 +629,15 @@ fn sensor_channels<W: Write + Seek>(
     })
 }
 
-/// Axle groups: axles closer than 2.1 m form a group ("1-1", "1-2", ...; SENSORS.md 3).
-fn axle_pattern(spacings_m: &[f64]) -> String {
-    let mut groups = vec![1];
-    for &s in spacings_m {
-        if s < 2.1 {
-            if let Some(last) = groups.last_mut() {
-                *last += 1;
-            }
-        } else {
-            groups.push(1);
+/// A station model as one short label.
+fn wim_model_label(model: &WimModelSpec) -> String {
+    match model {
+        WimModelSpec::Ideal => "ideal (dynamic tyre force at the strip)".into(),
+        WimModelSpec::Cost323 { class, .. } => format!("cost323 {class}"),
+        WimModelSpec::Physics { noise_rel, .. } => {
+            format!("physics (dynamic tyre force x (1 + N(0, {noise_rel})))")
         }
     }
-    groups
-        .iter()
-        .map(|g| g.to_string())
-        .collect::<Vec<_>>()
-        .join("-")
 }
 
 fn interpolate(xs: &[f64], ys: &[f64], x: f64) -> f64 {
@@ -599,14 +650,4 @@ fn interpolate(xs: &[f64], ys: &[f64], x: f64) -> f64 {
     let (x0, x1) = (xs[i - 1], xs[i]);
     let w = if x1 > x0 { (x - x0) / (x1 - x0) } else { 0.0 };
     ys[i - 1] * (1.0 - w) + ys[i] * w
-}
-
-#[cfg(test)]
-mod tests {
-    #[test]
-    fn axle_pattern_groups_close_axles() {
-        assert_eq!(super::axle_pattern(&[4.27]), "1-1");
-        assert_eq!(super::axle_pattern(&[3.24, 5.43, 1.2, 1.21]), "1-1-3");
-        assert_eq!(super::axle_pattern(&[]), "1");
-    }
 }

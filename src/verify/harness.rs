@@ -147,14 +147,7 @@ pub fn manufactured_history(
     };
     fill_load(0.0, &mut load);
     newmark.initialize_acceleration(&model.mass, &model.stiffness, &load)?;
-    let ops: Vec<SparseVec> = points_m
-        .iter()
-        .map(|&x| {
-            let mut op = SparseVec::default();
-            model.point_operator(x, PointQuantity::Deflection, &mut op);
-            op
-        })
-        .collect();
+    let ops = model.point_operators(points_m, PointQuantity::Deflection);
     let steps = (case.duration_s / case.dt_s).round() as u64;
     let mut max_err = vec![0.0f64; points_m.len()];
     let mut max_exact = vec![0.0f64; points_m.len()];
