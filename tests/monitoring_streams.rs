@@ -135,6 +135,15 @@ fn adding_a_sensor_does_not_change_the_others_numbers() {
         // Bit for bit: noise, gain and bias draws, losses, and the ambient load.
         assert!(sa == sb, "sensor {index} changed when a sensor was added");
         assert!(sa.iter().any(|s| s.2.is_none()), "some losses expected");
+        // The random losses are counted once on /events, not one line per sample.
+        let lost = sa.iter().filter(|s| s.2.is_none()).count();
+        let id = ["A1", "A2"][index];
+        let line = format!("sensor {id}: {lost} samples lost at random");
+        assert!(
+            a.iter()
+                .any(|r| matches!(r, Record::Event { text, .. } if text.starts_with(&line))),
+            "no event `{line}`"
+        );
     }
 }
 

@@ -266,10 +266,24 @@ pub fn run_controlled(
         tap.flush();
     }
     tracker.finish(&solver, &mut merger.truth);
+    let end_ns = stopped_at.unwrap_or(resolved.steps) * resolved.dt_ns;
+    for (i, tap) in taps.iter().enumerate() {
+        if tap.random_losses() > 0 {
+            merger.truth.push_back(Record::Event {
+                t_ns: end_ns,
+                level: EventLevel::Warning,
+                text: format!(
+                    "sensor {}: {} samples lost at random (each labelled on /truth/faults)",
+                    resolved.sensors[i].spec.id,
+                    tap.random_losses()
+                ),
+            });
+        }
+    }
     for (i, counter) in &clip_counters {
         if counter.get() > 0 {
             merger.truth.push_back(Record::Event {
-                t_ns: stopped_at.unwrap_or(resolved.steps) * resolved.dt_ns,
+                t_ns: end_ns,
                 level: EventLevel::Warning,
                 text: format!(
                     "sensor {}: {} samples clipped at the ADC range (off-scale)",

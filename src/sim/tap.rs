@@ -12,7 +12,7 @@
 use std::collections::VecDeque;
 
 use super::record::Record;
-use crate::daq::{FaultInjector, FaultLabel, OPEN_END_NS};
+use crate::daq::{FaultInjector, FaultKind, FaultLabel, OPEN_END_NS};
 use crate::sensor::{hermite, SensorChannel, HERMITE_LOOKAHEAD, HERMITE_LOOKBACK};
 
 /// Response quantities at a point, output sign convention (downward positive).
@@ -96,6 +96,8 @@ pub struct SensorTap {
     /// Sensor samples and fault labels, in time order.
     ready: VecDeque<Record>,
     emitted: u64,
+    /// Single samples lost at random so far (labelled on `/truth/faults` only).
+    random_losses: u64,
 }
 
 impl SensorTap {
@@ -119,6 +121,7 @@ impl SensorTap {
             labels: Vec::with_capacity(4),
             ready: VecDeque::with_capacity(8),
             emitted: 0,
+            random_losses: 0,
         }
     }
 
@@ -176,6 +179,7 @@ impl SensorTap {
                 self.emitted += 1;
                 faults.take_labels(&mut self.labels);
                 for label in self.labels.drain(..) {
+                    self.random_losses += u64::from(label.kind == FaultKind::LossRandom);
                     self.ready
                         .insert(i, fault_record(self.sensor, &label, t_ns));
                     i += 1;
@@ -183,6 +187,12 @@ impl SensorTap {
             }
             i += 1;
         }
+    }
+
+    /// Samples lost at random so far: each has its own label on `/truth/faults`, and the
+    /// run announces their count once on `/events` rather than one line per sample.
+    pub fn random_losses(&self) -> u64 {
+        self.random_losses
     }
 
     /// The time of the next record, if any.
