@@ -1,0 +1,1 @@
+//! Environment and condition: temperature and damage driving the bridge stiffness.

@@ -1,0 +1,1 @@
+//! Traffic generation: lanes, arrivals, classes, weights and axle layouts.
