@@ -293,3 +293,48 @@ fn wim_records_of_a_cost323_station_add_up_and_name_their_vehicle() {
     assert!(physics.truth.axle_rel.iter().all(|e| *e == 0.0));
     assert!((physics.gross_weight_n / truth.gross_weight_n - 1.0).abs() > 1e-4);
 }
+
+#[test]
+fn a_vehicle_in_the_opposite_direction_mirrors_the_response() {
+    // A moving force towards -x from the right support is the mirror image of the same
+    // force towards +x: the response at x under one equals the response at L - x under
+    // the other, to round-off (the mesh is symmetric, the road smooth).
+    let run = |direction: i8| {
+        let toml = format!(
+            "{}[[vehicles]]\nmodel = {{ kind = \"moving_force\", axle_loads_n = [60000.0, 120000.0], \
+             axle_spacing_m = [4.0] }}\nspeed_m_s = 20.0\ndirection = {direction}\n{}{}",
+            bridge(9.0),
+            sensor("Q1", 7.5, "preset = \"ideal\""),
+            sensor("Q3", 22.5, "preset = \"ideal\"")
+        );
+        let recs = records(&toml);
+        let times = recs
+            .iter()
+            .find_map(|r| match r {
+                Record::Vehicle { vehicle, .. } => {
+                    Some((vehicle.entry_time_ns, vehicle.exit_time_ns))
+                }
+                _ => None,
+            })
+            .expect("vehicle truth");
+        (samples(&recs, 0), samples(&recs, 1), times)
+    };
+    let (fwd_q1, fwd_q3, fwd_times) = run(1);
+    let (rev_q1, rev_q3, rev_times) = run(-1);
+    // Both enter their bridge end at the same instant and leave it together.
+    assert!(fwd_times.0.is_some() && fwd_times.1.is_some());
+    assert_eq!(fwd_times, rev_times);
+    let peak = fwd_q1.iter().fold(0.0f64, |a, s| a.max(s.3[0].abs()));
+    assert!(peak > 1e-4, "deflection peak {peak}");
+    for (a, b) in [(&fwd_q1, &rev_q3), (&fwd_q3, &rev_q1)] {
+        assert_eq!(a.len(), b.len());
+        for (x, y) in a.iter().zip(b.iter()) {
+            assert!(
+                (x.3[0] - y.3[0]).abs() < 1e-9 * peak,
+                "{} vs {}",
+                x.3[0],
+                y.3[0]
+            );
+        }
+    }
+}

@@ -213,6 +213,7 @@ fn scenario_strategy() -> impl Strategy<Value = Scenario> {
                     speed_m_s: v.speed_m_s,
                     entry_time_s: v.entry_time_s,
                     lane: 1,
+                    direction: 1,
                 })
                 .collect();
             let solver_rate_hz = 1.0 / dt;

@@ -177,6 +177,18 @@ pub struct VehicleEntry {
     /// Lane number for the records (default 1).
     #[serde(default = "default_lane")]
     pub lane: u32,
+    /// 1 (default): towards +x, entering at the left support; -1: the opposite
+    /// direction, entering at the right support after its own approach.
+    #[serde(default = "default_direction", skip_serializing_if = "is_forward")]
+    pub direction: i8,
+}
+
+fn default_direction() -> i8 {
+    1
+}
+
+fn is_forward(direction: &i8) -> bool {
+    *direction == 1
 }
 
 fn default_lane() -> u32 {

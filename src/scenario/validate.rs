@@ -46,6 +46,8 @@ pub struct ResolvedVehicle {
     pub speed_m_s: f64,
     pub entry_step: u64,
     pub lane: u32,
+    /// +1 towards +x, -1 towards -x.
+    pub direction: i8,
 }
 
 /// A sensor with its defaults filled in.
@@ -516,6 +518,13 @@ impl Scenario {
                     ),
                 ));
             }
+            if v.direction != 1 && v.direction != -1 {
+                return Err(Error::invalid(
+                    format!("{path}.direction"),
+                    v.direction,
+                    "must be 1 (towards +x) or -1 (towards -x)",
+                ));
+            }
             let id = v.id.unwrap_or(i as u32 + 1);
             if !ids.insert(id) {
                 return Err(Error::invalid(format!("{path}.id"), id, "is used twice"));
@@ -527,6 +536,7 @@ impl Scenario {
                 speed_m_s: v.speed_m_s,
                 entry_step,
                 lane: v.lane,
+                direction: v.direction,
             });
         }
         Ok(out)

@@ -80,8 +80,18 @@ pub fn prepare(resolved: &Resolved) -> Result<Prepared> {
         .iter()
         .map(|v| v.dynamics.wheelbase_m())
         .fold(0.0, f64::max);
-    let x_start = -(s.road.approach_m + wheelbase + 5.0);
-    let x_end = s.bridge.span_m + s.road.exit_m + wheelbase + 5.0;
+    // The road under every axle: the left approach, the bridge and the exit towards +x;
+    // for vehicles towards -x the right side holds their approach.
+    let reverse = resolved.vehicles.iter().any(|v| v.direction < 0);
+    let (left_m, right_m) = match reverse {
+        true => {
+            let side = s.road.exit_m.max(s.road.approach_m);
+            (side, side)
+        }
+        false => (s.road.approach_m, s.road.exit_m),
+    };
+    let x_start = -(left_m + wheelbase + 5.0);
+    let x_end = s.bridge.span_m + right_m + wheelbase + 5.0;
     let mut rng = child_rng(s.seed, "road");
     let road = RoadProfile::build(&s.road.profile, x_start, x_end, &mut rng)?;
     Ok(Prepared { model, road })
@@ -148,13 +158,16 @@ pub fn run_controlled(
     )?;
     solver.retire_after_m = s.road.exit_m;
     for v in &resolved.vehicles {
-        solver.add_vehicle(CoupledVehicle::new(
-            v.id,
-            v.dynamics.clone(),
-            v.speed_m_s,
-            -s.road.approach_m,
-            v.entry_step,
-        ));
+        // Each direction has its own approach: the left one towards +x, the right one
+        // towards -x.
+        let start_m = match v.direction > 0 {
+            true => -s.road.approach_m,
+            false => s.bridge.span_m + s.road.approach_m,
+        };
+        solver.add_vehicle(
+            CoupledVehicle::new(v.id, v.dynamics.clone(), v.speed_m_s, start_m, v.entry_step)
+                .with_direction(v.direction),
+        );
     }
     let mut taps = Vec::new();
     let mut clip_counters = Vec::new();
@@ -257,6 +270,7 @@ pub fn run_controlled(
                 .push_back(Record::BridgeShape { t_ns, deflection_m });
         }
         tracker.observe(&solver, step, &mut merger.truth);
+        tracker.drop_departed(&mut solver);
         merger.release(&mut taps, t_ns.saturating_sub(max_latency_ns), recorder)?;
         if step % 5000 == 0 {
             (control.progress)(step, resolved.steps);
@@ -321,7 +335,7 @@ pub fn run_controlled(
             .map(|&w| model.rayleigh.ratio_at(w))
             .collect(),
         dlc: tracker.dlc_ratios(&solver),
-        contact_loss_steps: solver.vehicles.iter().map(|v| v.contact_loss_steps).sum(),
+        contact_loss_steps: tracker.contact_loss_steps(&solver),
         road_description: prepared.road.describe().to_string(),
         road_csv: prepared.road.to_csv(),
         stopped_at_s: stopped_at.map(|step| step as f64 * dt_s),

@@ -42,6 +42,10 @@ pub struct Tracker {
     /// Each station's model and its random stream (`wim/<id>`).
     stations: Vec<(WimStation, ChaCha8Rng)>,
     tracks: Vec<VehicleTrack>,
+    /// DLC rows of vehicles already dropped, and how many vehicles they cover.
+    departed_dlc: Vec<(u32, u32, f64, f64)>,
+    dlc_vehicles: usize,
+    departed_contact_loss_steps: u64,
     /// Axle positions of the vehicle being observed (reused: no allocation per step).
     x_m: Vec<f64>,
 }
@@ -64,23 +68,7 @@ impl Tracker {
         let tracks: Vec<VehicleTrack> = resolved
             .vehicles
             .iter()
-            .map(|v| {
-                let axles = v.dynamics.axles.len();
-                VehicleTrack {
-                    lane: v.lane,
-                    speed_m_s: v.speed_m_s,
-                    started: false,
-                    prev_x_m: vec![0.0; axles],
-                    entry_ns: None,
-                    exit_ns: None,
-                    emitted: false,
-                    wim: vec![vec![None; axles]; stations],
-                    wim_done: vec![false; stations],
-                    max_force_on_bridge_n: vec![0.0; axles],
-                    force_moments: vec![(0, 0.0, 0.0); axles],
-                    losing_contact: vec![false; axles],
-                }
-            })
+            .map(|v| new_track(v.lane, v.speed_m_s, v.dynamics.axles.len(), stations))
             .collect();
         Ok(Tracker {
             stations: models,
@@ -94,6 +82,9 @@ impl Tracker {
                 .collect(),
             x_m: Vec::with_capacity(tracks.iter().map(|t| t.prev_x_m.len()).max().unwrap_or(0)),
             tracks,
+            departed_dlc: Vec::new(),
+            dlc_vehicles: 0,
+            departed_contact_loss_steps: 0,
         })
     }
 
@@ -135,8 +126,19 @@ impl Tracker {
                 track.prev_x_m.copy_from_slice(&x);
                 continue;
             }
-            let crossed = |j: usize, at: f64| track.prev_x_m[j] < at && x[j] >= at;
-            if crossed(0, 0.0) {
+            // Towards +x a vehicle enters at 0 and leaves at the span; towards -x the
+            // other way round, and a WIM strip at p on the left approach sits at span - p
+            // on the right one (stations cover every lane).
+            let forward = v.direction > 0.0;
+            let crossed = |j: usize, at: f64| match forward {
+                true => track.prev_x_m[j] < at && x[j] >= at,
+                false => track.prev_x_m[j] > at && x[j] <= at,
+            };
+            let (entry_at, exit_at) = match forward {
+                true => (0.0, self.span_m),
+                false => (self.span_m, 0.0),
+            };
+            if crossed(0, entry_at) {
                 track.entry_ns = Some(t_ns);
                 queue.push_back(event(
                     t_ns,
@@ -145,6 +147,7 @@ impl Tracker {
                 ));
             }
             for (s, &p) in self.wim_positions_m.iter().enumerate() {
+                let p = if forward { p } else { self.span_m - p };
                 for j in 0..axles {
                     if crossed(j, p) {
                         track.wim[s][j] = Some((t_ns, v.contact_force_n[j]));
@@ -198,7 +201,7 @@ impl Tracker {
                     ));
                 }
             }
-            if crossed(axles - 1, self.span_m) {
+            if crossed(axles - 1, exit_at) {
                 track.exit_ns = Some(t_ns);
                 queue.push_back(event(
                     t_ns,
@@ -216,6 +219,28 @@ impl Tracker {
         self.x_m = x;
     }
 
+    /// Removes from the solver and from the tracks every vehicle that has left the road
+    /// and whose truth record is written, keeping its DLC rows (up to
+    /// [`MAX_DLC_VEHICLES`] vehicles): memory follows the vehicles on the road, not the
+    /// run's length.
+    pub fn drop_departed(&mut self, solver: &mut CoupledSolver) {
+        let mut i = 0;
+        while i < solver.vehicles.len() {
+            if solver.vehicles[i].is_retired() && self.tracks[i].emitted {
+                if self.dlc_vehicles < MAX_DLC_VEHICLES && self.tracks[i].entry_ns.is_some() {
+                    self.dlc_vehicles += 1;
+                    let rows = dlc_rows(&solver.vehicles[i], &self.tracks[i]);
+                    self.departed_dlc.extend(rows);
+                }
+                self.departed_contact_loss_steps += solver.vehicles[i].contact_loss_steps;
+                solver.vehicles.remove(i);
+                self.tracks.remove(i);
+            } else {
+                i += 1;
+            }
+        }
+    }
+
     /// Queues the records of vehicles that had not left the bridge when the run ended.
     pub fn finish(&mut self, solver: &CoupledSolver, queue: &mut VecDeque<Record>) {
         let t_ns = solver.step * self.dt_ns;
@@ -230,28 +255,67 @@ impl Tracker {
         }
     }
 
-    /// Per axle of every vehicle that entered: (vehicle id, axle, max tyre force on the
-    /// bridge / static, standard deviation of the force on the bridge / static).
+    /// Per axle of every vehicle that entered (the first [`MAX_DLC_VEHICLES`] of a long
+    /// run): (vehicle id, axle, max tyre force on the bridge / static, standard deviation
+    /// of the force on the bridge / static).
     pub fn dlc_ratios(&self, solver: &CoupledSolver) -> Vec<(u32, u32, f64, f64)> {
-        let mut out = Vec::new();
-        for (v, track) in solver.vehicles.iter().zip(&self.tracks) {
-            if track.entry_ns.is_none() {
-                continue;
-            }
-            for (j, axle) in v.dynamics.axles.iter().enumerate() {
-                let (n, sum, sum_sq) = track.force_moments[j];
-                let n = n.max(1) as f64;
-                let variance = (sum_sq / n - (sum / n).powi(2)).max(0.0);
-                let s = axle.static_load_n;
-                out.push((
-                    v.id,
-                    j as u32,
-                    track.max_force_on_bridge_n[j] / s,
-                    variance.sqrt() / s,
-                ));
-            }
+        let mut out = self.departed_dlc.clone();
+        let room = MAX_DLC_VEHICLES.saturating_sub(self.dlc_vehicles);
+        let on_road = solver.vehicles.iter().zip(&self.tracks);
+        for (v, track) in on_road.filter(|(_, t)| t.entry_ns.is_some()).take(room) {
+            out.extend(dlc_rows(v, track));
         }
+        out.sort_by_key(|&(id, axle, ..)| (id, axle));
         out
+    }
+}
+
+impl Tracker {
+    /// Steps with a tyre in tension or lifted off, summed over every vehicle of the run.
+    pub fn contact_loss_steps(&self, solver: &CoupledSolver) -> u64 {
+        let on_road: u64 = solver.vehicles.iter().map(|v| v.contact_loss_steps).sum();
+        self.departed_contact_loss_steps + on_road
+    }
+}
+
+/// Vehicles whose DLC rows a run keeps: a day of traffic has tens of thousands.
+pub const MAX_DLC_VEHICLES: usize = 1000;
+
+/// The DLC rows of one vehicle's axles.
+fn dlc_rows(v: &crate::solver::CoupledVehicle, track: &VehicleTrack) -> Vec<(u32, u32, f64, f64)> {
+    v.dynamics
+        .axles
+        .iter()
+        .enumerate()
+        .map(|(j, axle)| {
+            let (n, sum, sum_sq) = track.force_moments[j];
+            let n = n.max(1) as f64;
+            let variance = (sum_sq / n - (sum / n).powi(2)).max(0.0);
+            let s = axle.static_load_n;
+            (
+                v.id,
+                j as u32,
+                track.max_force_on_bridge_n[j] / s,
+                variance.sqrt() / s,
+            )
+        })
+        .collect()
+}
+
+fn new_track(lane: u32, speed_m_s: f64, axles: usize, stations: usize) -> VehicleTrack {
+    VehicleTrack {
+        lane,
+        speed_m_s,
+        started: false,
+        prev_x_m: vec![0.0; axles],
+        entry_ns: None,
+        exit_ns: None,
+        emitted: false,
+        wim: vec![vec![None; axles]; stations],
+        wim_done: vec![false; stations],
+        max_force_on_bridge_n: vec![0.0; axles],
+        force_moments: vec![(0, 0.0, 0.0); axles],
+        losing_contact: vec![false; axles],
     }
 }
 

@@ -14,6 +14,8 @@
 //! the total tyre force is `F_static + f_j` (compression positive), and the bridge carries
 //! `-(F_static + f_j)` at x_j.
 
+use std::borrow::Cow;
+
 use nalgebra::{DMatrix, DVector};
 
 use super::linear::SmallLu;
@@ -58,6 +60,9 @@ pub struct CoupledVehicle {
     pub id: u32,
     pub dynamics: VehicleDynamics,
     pub speed_m_s: f64,
+    /// +1 travelling towards +x (from the left support), -1 towards -x (the opposite
+    /// lane, entering at the right support); axles trail the front axle accordingly.
+    pub direction: f64,
     /// Front-axle position when the vehicle appears (m).
     pub start_front_x_m: f64,
     /// Step index at which it appears.
@@ -93,6 +98,7 @@ impl CoupledVehicle {
         CoupledVehicle {
             id,
             speed_m_s,
+            direction: 1.0,
             start_front_x_m,
             entry_step,
             state: State::zeros(n),
@@ -113,7 +119,29 @@ impl CoupledVehicle {
     /// Position of axle `j` at step `step` (m).
     pub fn axle_x_m(&self, j: usize, step: u64, dt_s: f64) -> f64 {
         let travelled = self.speed_m_s * (step.saturating_sub(self.entry_step)) as f64 * dt_s;
-        self.start_front_x_m + travelled - self.dynamics.axles[j].offset_m
+        self.start_front_x_m + self.direction * (travelled - self.dynamics.axles[j].offset_m)
+    }
+
+    /// The same vehicle travelling towards -x (`direction < 0`) or +x.
+    pub fn with_direction(mut self, direction: i8) -> Self {
+        self.direction = if direction < 0 { -1.0 } else { 1.0 };
+        self
+    }
+
+    /// Signed velocity along x (m/s): what the road slope under a tyre is multiplied by.
+    pub fn velocity_m_s(&self) -> f64 {
+        self.direction * self.speed_m_s
+    }
+
+    /// Whether every axle is more than `margin_m` beyond the end of a `span_m` bridge it
+    /// crosses in its direction at `step`.
+    pub fn has_left(&self, span_m: f64, margin_m: f64, step: u64, dt_s: f64) -> bool {
+        let last = self.dynamics.axles.len() - 1;
+        let x = self.axle_x_m(last, step, dt_s);
+        match self.direction > 0.0 {
+            true => x > span_m + margin_m,
+            false => x < -margin_m,
+        }
     }
 
     /// True once the vehicle has appeared and until it is retired.
@@ -180,7 +208,9 @@ struct Contact {
 
 /// The coupled system: one bridge and the vehicles on its road.
 pub struct CoupledSolver<'a> {
-    pub model: &'a BridgeModel,
+    /// The bridge model: borrowed, or owned once [`CoupledSolver::replace_model`] has
+    /// swapped in a rebuilt one (temperature, damage).
+    pub model: Cow<'a, BridgeModel>,
     pub bridge: Newmark,
     pub vehicles: Vec<CoupledVehicle>,
     pub contact_law: ContactLaw,
@@ -222,7 +252,7 @@ impl<'a> CoupledSolver<'a> {
         let inverse_columns = bridge.inverse_columns();
         Ok(CoupledSolver {
             inverse_columns,
-            model,
+            model: Cow::Borrowed(model),
             bridge,
             vehicles: Vec::new(),
             contact_law,
@@ -237,6 +267,33 @@ impl<'a> CoupledSolver<'a> {
             forces: Vec::new(),
             entries: Vec::new(),
         })
+    }
+
+    /// Replaces the bridge model by `model` (same DOF layout: a rebuild of the same mesh
+    /// with other stiffnesses) and refactorizes once, keeping the bridge's displacement,
+    /// velocity and acceleration. The acceleration is not re-equilibrated: the stiffness
+    /// changes by a fraction of a percent between rebuilds, and the next step's Newmark
+    /// update absorbs the mismatch.
+    pub fn replace_model(&mut self, model: BridgeModel, mode: SolveMode) -> Result<()> {
+        if model.n_dof() != self.model.n_dof() || model.diagonal_mass != self.model.diagonal_mass {
+            return Err(Error::invalid(
+                "bridge.model",
+                model.spec.label(),
+                "a rebuilt model must keep the DOF layout of the running one",
+            ));
+        }
+        let mut bridge = Newmark::new(
+            &model.mass,
+            &model.damping,
+            &model.stiffness,
+            self.bridge.coefficients,
+            mode,
+        )?;
+        bridge.state = self.bridge.state.clone();
+        self.inverse_columns = bridge.inverse_columns();
+        self.bridge = bridge;
+        self.model = Cow::Owned(model);
+        Ok(())
     }
 
     /// Adds a vehicle (it takes part from its entry step on).
@@ -260,12 +317,9 @@ impl<'a> CoupledSolver<'a> {
                 // The equilibrium is that of the state being advanced: positions at `step`.
                 v.activate(self.road, self.step, &coefficients)?;
             }
-            if v.active {
-                let last = v.dynamics.axles.len() - 1;
-                if v.axle_x_m(last, next, dt) > span + self.retire_after_m {
-                    v.active = false;
-                    v.retired = true;
-                }
+            if v.active && v.has_left(span, self.retire_after_m, next, dt) {
+                v.active = false;
+                v.retired = true;
             }
         }
         self.gather_contacts(next);
@@ -391,7 +445,7 @@ impl<'a> CoupledSolver<'a> {
             let (kt, ct, speed) = (
                 axle.tyre_stiffness_n_m,
                 axle.tyre_damping_n_s_m,
-                v.speed_m_s,
+                v.velocity_m_s(),
             );
             contact.kappa = kt + c.a1 * ct;
             let beta_y = -c.a1 * v.state.u[dof] - c.a4 * v.state.v[dof] - c.a5 * v.state.a[dof];
@@ -416,7 +470,7 @@ impl<'a> CoupledSolver<'a> {
         }
         let v = &self.vehicles[contact.vehicle];
         let ct = v.dynamics.axles[contact.axle].tyre_damping_n_s_m;
-        contact.kappa * contact.h.dot(x) + ct * v.speed_m_s * contact.h_slope.dot(x)
+        contact.kappa * contact.h.dot(x) + ct * v.velocity_m_s() * contact.h_slope.dot(x)
     }
 
     /// Solves the small system for the dynamic tyre forces, with an active set for
