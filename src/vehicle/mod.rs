@@ -1,12 +1,20 @@
 //! Vehicles: linear pitch-plane models seen by the solver as matrices plus tyre contacts.
 
+mod articulated;
+mod classes;
 mod dynamics;
 mod models;
 mod spec;
+mod truck_spec;
 
+pub use articulated::ArticulatedParams;
+pub use classes::{vehicle_for_traffic, TRAFFIC_CLASSES};
 pub use dynamics::{Axle, VehicleDynamics, GRAVITY_M_S2};
-pub use models::{quarter_car, rigid_body_on_axles, sprung_mass, AxleParams};
+pub use models::{
+    quarter_car, rigid_body_on_axles, sprung_mass, AxleParams, BodyParams, RigidTruckParams,
+};
 pub use spec::{HalfCarSpec, VehicleModelSpec, HALF_CAR_PRESETS};
+pub use truck_spec::{ArticulatedSpec, RigidTruckSpec, ARTICULATED_PRESETS, RIGID_TRUCK_PRESETS};
 
 #[cfg(test)]
 mod tests;

@@ -106,36 +106,11 @@ pub fn rigid_body_on_axles(
         ("cg_behind_front_m".to_string(), cg_behind_front_m),
     ];
     let mut dof_names = vec!["body_bounce".to_string(), "body_pitch".to_string()];
-    for (j, a) in axles.iter().enumerate() {
-        let i = j + 1;
-        parameters.extend([
-            (format!("axle_{i}_offset_m"), axle_offsets_m[j]),
-            (format!("axle_{i}_mass_kg"), a.mass_kg),
-            (
-                format!("axle_{i}_suspension_stiffness_n_m"),
-                a.suspension_stiffness_n_m,
-            ),
-            (
-                format!("axle_{i}_suspension_damping_n_s_m"),
-                a.suspension_damping_n_s_m,
-            ),
-            (format!("axle_{i}_tyre_stiffness_n_m"), a.tyre_stiffness_n_m),
-            (format!("axle_{i}_tyre_damping_n_s_m"), a.tyre_damping_n_s_m),
-        ]);
-        dof_names.push(format!("axle_{i}"));
+    for (j, (a, &offset)) in axles.iter().zip(axle_offsets_m).enumerate() {
+        parameters.extend(axle_parameters(j + 1, offset, a));
+        dof_names.push(format!("axle_{}", j + 1));
     }
-    let axle_list = axles
-        .iter()
-        .zip(axle_offsets_m)
-        .enumerate()
-        .map(|(j, (a, &offset))| Axle {
-            offset_m: offset,
-            dof: Some(2 + j),
-            tyre_stiffness_n_m: a.tyre_stiffness_n_m,
-            tyre_damping_n_s_m: a.tyre_damping_n_s_m,
-            static_load_n: 0.0,
-        })
-        .collect();
+    let axle_list = tyre_contacts(axle_offsets_m, axles, 2);
     let mut vehicle = VehicleDynamics {
         name: name.to_string(),
         mass,
@@ -152,4 +127,78 @@ pub fn rigid_body_on_axles(
     }
     vehicle.set_static_loads_from_gravity(&gravity)?;
     Ok(vehicle)
+}
+
+/// Mass properties of one rigid body of a pitch-plane model.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BodyParams {
+    /// Sprung mass of the body (kg), axles excluded.
+    pub mass_kg: f64,
+    /// Pitch moment of inertia about the body's centre of gravity (kg m^2).
+    pub pitch_inertia_kg_m2: f64,
+    /// Centre of gravity behind the vehicle's front axle (m).
+    pub cg_behind_front_m: f64,
+}
+
+/// A rigid truck (or car): one body on n >= 2 suspended axles.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RigidTruckParams {
+    pub body: BodyParams,
+    /// Distances behind the front axle (m), ascending, the first 0.
+    pub axle_offsets_m: Vec<f64>,
+    /// One entry per axle, front first.
+    pub axles: Vec<AxleParams>,
+}
+
+impl RigidTruckParams {
+    /// The model, with static axle loads from gravity (`rigid_body_on_axles`).
+    pub fn build(&self, name: &str) -> Result<VehicleDynamics> {
+        rigid_body_on_axles(
+            name,
+            self.body.mass_kg,
+            self.body.pitch_inertia_kg_m2,
+            self.body.cg_behind_front_m,
+            &self.axle_offsets_m,
+            &self.axles,
+        )
+    }
+}
+
+/// The truth-record parameters of axle `i` (1-based).
+pub(crate) fn axle_parameters(i: usize, offset_m: f64, a: &AxleParams) -> [(String, f64); 6] {
+    [
+        (format!("axle_{i}_offset_m"), offset_m),
+        (format!("axle_{i}_mass_kg"), a.mass_kg),
+        (
+            format!("axle_{i}_suspension_stiffness_n_m"),
+            a.suspension_stiffness_n_m,
+        ),
+        (
+            format!("axle_{i}_suspension_damping_n_s_m"),
+            a.suspension_damping_n_s_m,
+        ),
+        (format!("axle_{i}_tyre_stiffness_n_m"), a.tyre_stiffness_n_m),
+        (format!("axle_{i}_tyre_damping_n_s_m"), a.tyre_damping_n_s_m),
+    ]
+}
+
+/// Tyre contacts of axles whose hop DOFs are `first_dof`, `first_dof + 1`, ...; static
+/// loads are left at 0 for `set_static_loads_from_gravity`.
+pub(crate) fn tyre_contacts(
+    offsets_m: &[f64],
+    axles: &[AxleParams],
+    first_dof: usize,
+) -> Vec<Axle> {
+    axles
+        .iter()
+        .zip(offsets_m)
+        .enumerate()
+        .map(|(j, (a, &offset))| Axle {
+            offset_m: offset,
+            dof: Some(first_dof + j),
+            tyre_stiffness_n_m: a.tyre_stiffness_n_m,
+            tyre_damping_n_s_m: a.tyre_damping_n_s_m,
+            static_load_n: 0.0,
+        })
+        .collect()
 }

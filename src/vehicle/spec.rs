@@ -4,6 +4,7 @@ use serde::{Deserialize, Serialize};
 
 use super::dynamics::VehicleDynamics;
 use super::models::{quarter_car, rigid_body_on_axles, sprung_mass, AxleParams};
+use super::truck_spec::{ArticulatedSpec, RigidTruckSpec};
 use crate::error::{require_non_negative, require_positive, Error, Result};
 
 /// A vehicle model (`kind = "..."` in the scenario).
@@ -40,6 +41,12 @@ pub enum VehicleModelSpec {
     /// 4-DOF half car: body bounce and pitch, two axles. A `preset` gives every field;
     /// any field given next to it overrides the preset's value.
     HalfCar(HalfCarSpec),
+    /// One body (bounce, pitch) on 2-4 suspended axles: cars and rigid trucks. A `preset`
+    /// gives every field; fields next to it override it.
+    RigidTruck(RigidTruckSpec),
+    /// Tractor + semi-trailer: two bodies hinged at the fifth wheel, one unsprung mass
+    /// per axle. A `preset` gives every field; fields next to it override it.
+    Articulated(ArticulatedSpec),
 }
 
 /// Half-car parameters; arrays are (front, rear).
@@ -236,6 +243,8 @@ impl VehicleModelSpec {
                 Ok(quarter_car(*body_mass_kg, axle))
             }
             VehicleModelSpec::HalfCar(spec) => build_half_car(spec, path),
+            VehicleModelSpec::RigidTruck(spec) => spec.params(path)?.build(&spec.model_name()),
+            VehicleModelSpec::Articulated(spec) => spec.params(path)?.build(&spec.model_name()),
         }
     }
 }

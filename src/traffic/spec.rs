@@ -1,0 +1,303 @@
+//! The scenario's `[traffic]` table and its validation.
+
+use std::collections::BTreeMap;
+
+use serde::{Deserialize, Serialize};
+
+use super::class::{require_relative_sd, ClassModel, VehicleClass, SHARE_SUM_TOLERANCE};
+use crate::error::{num, require_finite, require_non_negative, require_positive, Error, Result};
+
+/// Hours in the flow profile.
+pub const HOURS_PER_DAY: usize = 24;
+
+/// Default hourly flow factors, hour 0 = 00:00-01:00 local time: a weekday two-peak shape
+/// (morning peak 08:00, evening peak 16:00-18:00 at 1.65, night minimum 0.17 at
+/// 02:00-04:00), the shape of inter-urban counts such as the day/night pattern of
+/// SENSORS.md section 5 (estimated, not a measured site). The factors sum to 24 (mean 1).
+pub const DEFAULT_HOURLY_PROFILE: [f64; HOURS_PER_DAY] = [
+    0.25, 0.2, 0.17, 0.17, 0.22, 0.45, 1.0, 1.55, 1.65, 1.5, 1.35, 1.35, 1.4, 1.4, 1.45, 1.5, 1.65,
+    1.65, 1.4, 1.2, 0.95, 0.65, 0.5, 0.39,
+];
+
+/// Default share of cars among all vehicles (SENSORS.md section 4: ~80 %).
+pub const DEFAULT_CAR_SHARE: f64 = 0.8;
+
+/// Default split of the trucks (Auxerre, direction 1; SENSORS.md section 4): 2-axle 23 %,
+/// 3-axle 2.8 %, 4-axle 31.7 %, 5-axle 42.5 %.
+pub const DEFAULT_TRUCK_SPLIT: [(VehicleClass, f64); 4] = [
+    (VehicleClass::Truck2Axle, 0.23),
+    (VehicleClass::Truck3Axle, 0.028),
+    (VehicleClass::Truck4Axle, 0.317),
+    (VehicleClass::Artic5Axle, 0.425),
+];
+
+/// Default mean speed: 89 km/h (Auxerre, SENSORS.md section 4).
+pub const DEFAULT_SPEED_MEAN_M_S: f64 = 89.0 / 3.6;
+/// Default speed standard deviation: 3.6 km/h = 1 m/s (Auxerre).
+pub const DEFAULT_SPEED_SD_M_S: f64 = 1.0;
+/// Default minimum time gap between the rear of a vehicle and the front of the next one
+/// on its lane, s: well below the 2 s rule, about the shortest gaps seen in free flow.
+pub const DEFAULT_MIN_GAP_S: f64 = 1.0;
+/// Default relative sd of a vehicle's suspension parameters around its class model.
+pub const DEFAULT_PARAMETER_SD_REL: f64 = 0.1;
+
+/// Random traffic on the bridge (`[traffic]`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TrafficSpec {
+    /// The lanes, each with its own flow, direction and speeds; the beam carries them all.
+    pub lanes: Vec<LaneSpec>,
+    /// 24 relative flow factors, hour 0 = midnight to 01:00 local time. They are divided
+    /// by their mean, so each lane's `flow_per_hour` stays its daily mean flow; default
+    /// [`DEFAULT_HOURLY_PROFILE`].
+    #[serde(default = "default_hourly_profile")]
+    pub hourly_profile: Vec<f64>,
+    /// Share of each class among all vehicles, >= 0, summing to 1; class names as
+    /// [`VehicleClass::name`]; absent classes have share 0. Default 80 % cars and the
+    /// Auxerre truck split ([`DEFAULT_TRUCK_SPLIT`]). A lane's own `classes` overrides it.
+    #[serde(default = "default_class_shares")]
+    pub classes: BTreeMap<String, f64>,
+    /// Minimum time gap between the rear of a vehicle and the front of the follower on a
+    /// lane, at the follower's speed, s; default [`DEFAULT_MIN_GAP_S`].
+    #[serde(default = "default_min_gap_s")]
+    pub min_gap_s: f64,
+    /// Relative sd, in [0, 0.3], by which the integrator varies each vehicle's suspension
+    /// parameters (from the vehicle's `variation_seed`); default
+    /// [`DEFAULT_PARAMETER_SD_REL`].
+    #[serde(default = "default_parameter_sd_rel")]
+    pub parameter_sd_rel: f64,
+    /// Class models replacing the defaults ([`VehicleClass::default_model`]), whole,
+    /// keyed by class name; default none.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub models: BTreeMap<String, ClassModel>,
+}
+
+/// One lane (`[[traffic.lanes]]`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LaneSpec {
+    /// Direction of travel: 1 = along the beam axis (entering at x = 0), -1 = against it;
+    /// default 1.
+    #[serde(default = "default_direction")]
+    pub direction: i8,
+    /// Daily mean flow of all classes, vehicles per hour, >= 0 (0: an empty lane).
+    pub flow_per_hour: f64,
+    /// Mean speed, m/s; default [`DEFAULT_SPEED_MEAN_M_S`].
+    #[serde(default = "default_speed_mean_m_s")]
+    pub speed_mean_m_s: f64,
+    /// Speed standard deviation, m/s; draws are truncated at 3 sd, so it must be below
+    /// a third of the mean; default [`DEFAULT_SPEED_SD_M_S`].
+    #[serde(default = "default_speed_sd_m_s")]
+    pub speed_sd_m_s: f64,
+    /// Class shares of this lane (as `traffic.classes`); default the global ones.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub classes: Option<BTreeMap<String, f64>>,
+}
+
+fn default_hourly_profile() -> Vec<f64> {
+    DEFAULT_HOURLY_PROFILE.to_vec()
+}
+
+/// The default class shares as a scenario would write them.
+pub fn default_class_shares() -> BTreeMap<String, f64> {
+    let truck_share = 1.0 - DEFAULT_CAR_SHARE;
+    std::iter::once((VehicleClass::Car.name().to_string(), DEFAULT_CAR_SHARE))
+        .chain(
+            DEFAULT_TRUCK_SPLIT
+                .iter()
+                .map(|&(class, split)| (class.name().to_string(), truck_share * split)),
+        )
+        .collect()
+}
+
+fn default_min_gap_s() -> f64 {
+    DEFAULT_MIN_GAP_S
+}
+fn default_parameter_sd_rel() -> f64 {
+    DEFAULT_PARAMETER_SD_REL
+}
+fn default_direction() -> i8 {
+    1
+}
+fn default_speed_mean_m_s() -> f64 {
+    DEFAULT_SPEED_MEAN_M_S
+}
+fn default_speed_sd_m_s() -> f64 {
+    DEFAULT_SPEED_SD_M_S
+}
+
+/// A validated lane.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Lane {
+    pub direction: i8,
+    pub flow_per_s: f64,
+    pub speed_mean_m_s: f64,
+    pub speed_sd_m_s: f64,
+    /// Share of each class, indexed by [`VehicleClass::index`].
+    pub shares: [f64; 5],
+}
+
+/// A validated `[traffic]` table.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Validated {
+    pub lanes: Vec<Lane>,
+    /// Hourly factors divided by their mean.
+    pub profile: [f64; HOURS_PER_DAY],
+    pub min_gap_s: f64,
+    pub parameter_sd_rel: f64,
+    /// Model of each class, indexed by [`VehicleClass::index`].
+    pub models: [ClassModel; 5],
+}
+
+impl TrafficSpec {
+    /// Checks every field; errors name `<field_prefix>.<field>` (e.g.
+    /// `traffic.lanes.1.flow_per_hour`) and the value.
+    pub fn validate(&self, field_prefix: &str) -> Result<()> {
+        self.validated(field_prefix).map(|_| ())
+    }
+
+    pub(crate) fn validated(&self, field_prefix: &str) -> Result<Validated> {
+        let field = |name: &str| format!("{field_prefix}.{name}");
+        if self.lanes.is_empty() {
+            return Err(Error::invalid(
+                field("lanes"),
+                "[]",
+                "must list at least one lane",
+            ));
+        }
+        let global_shares = parse_shares(&self.classes, &field("classes"))?;
+        let lanes = self
+            .lanes
+            .iter()
+            .enumerate()
+            .map(|(i, lane)| lane.validated(global_shares, &format!("{field_prefix}.lanes.{i}")))
+            .collect::<Result<Vec<_>>>()?;
+        require_positive(&field("min_gap_s"), self.min_gap_s)?;
+        Ok(Validated {
+            lanes,
+            profile: normalised_profile(&self.hourly_profile, &field("hourly_profile"))?,
+            min_gap_s: self.min_gap_s,
+            parameter_sd_rel: require_relative_sd(
+                &field("parameter_sd_rel"),
+                self.parameter_sd_rel,
+            )?,
+            models: class_models(&self.models, &field("models"))?,
+        })
+    }
+}
+
+impl LaneSpec {
+    fn validated(&self, global_shares: [f64; 5], field_prefix: &str) -> Result<Lane> {
+        let field = |name: &str| format!("{field_prefix}.{name}");
+        if self.direction != 1 && self.direction != -1 {
+            return Err(Error::invalid(
+                field("direction"),
+                self.direction,
+                "must be 1 (along the beam axis) or -1 (against it)",
+            ));
+        }
+        require_non_negative(&field("flow_per_hour"), self.flow_per_hour)?;
+        require_positive(&field("speed_mean_m_s"), self.speed_mean_m_s)?;
+        require_non_negative(&field("speed_sd_m_s"), self.speed_sd_m_s)?;
+        if self.speed_sd_m_s * super::class::TRUNCATION_SD >= self.speed_mean_m_s {
+            return Err(Error::invalid(
+                field("speed_sd_m_s"),
+                num(self.speed_sd_m_s),
+                format!(
+                    "must be below speed_mean_m_s / 3 = {} (speeds are truncated at 3 sd and \
+                     must stay positive)",
+                    num(self.speed_mean_m_s / 3.0)
+                ),
+            ));
+        }
+        let shares = match &self.classes {
+            Some(classes) => parse_shares(classes, &field("classes"))?,
+            None => global_shares,
+        };
+        Ok(Lane {
+            direction: self.direction,
+            flow_per_s: self.flow_per_hour / 3600.0,
+            speed_mean_m_s: self.speed_mean_m_s,
+            speed_sd_m_s: self.speed_sd_m_s,
+            shares,
+        })
+    }
+}
+
+/// Class shares by index; every name known, every share finite and >= 0, the sum 1.
+fn parse_shares(classes: &BTreeMap<String, f64>, field: &str) -> Result<[f64; 5]> {
+    let mut shares = [0.0; 5];
+    for (name, &share) in classes {
+        let class = known_class(name, &format!("{field}.{name}"), share)?;
+        shares[class.index()] = require_non_negative(&format!("{field}.{name}"), share)?;
+    }
+    let total: f64 = shares.iter().sum();
+    if (total - 1.0).abs() > SHARE_SUM_TOLERANCE {
+        let listed: Vec<String> = classes.iter().map(|(k, v)| format!("{k} = {v}")).collect();
+        return Err(Error::invalid(
+            field,
+            format!("{{ {} }}", listed.join(", ")),
+            format!("must have shares summing to 1 (sum {})", num(total)),
+        ));
+    }
+    Ok(shares)
+}
+
+fn known_class(name: &str, field: &str, value: impl std::fmt::Display) -> Result<VehicleClass> {
+    VehicleClass::from_name(name).ok_or_else(|| {
+        Error::invalid(
+            field,
+            value,
+            format!("names no vehicle class; valid: {}", VehicleClass::names()),
+        )
+    })
+}
+
+fn normalised_profile(factors: &[f64], field: &str) -> Result<[f64; HOURS_PER_DAY]> {
+    let profile: [f64; HOURS_PER_DAY] = factors.try_into().map_err(|_| {
+        Error::invalid(
+            field,
+            format!("{} values", factors.len()),
+            format!("must have {HOURS_PER_DAY}, one per hour from midnight"),
+        )
+    })?;
+    for (hour, &factor) in profile.iter().enumerate() {
+        require_finite(&format!("{field}.{hour}"), factor)?;
+        require_non_negative(&format!("{field}.{hour}"), factor)?;
+    }
+    let mean = profile.iter().sum::<f64>() / HOURS_PER_DAY as f64;
+    if mean <= 0.0 {
+        return Err(Error::invalid(
+            field,
+            "all 0",
+            "must have at least one positive factor",
+        ));
+    }
+    Ok(profile.map(|f| f / mean))
+}
+
+fn class_models(overrides: &BTreeMap<String, ClassModel>, field: &str) -> Result<[ClassModel; 5]> {
+    let mut models = VehicleClass::ALL.map(VehicleClass::default_model);
+    for (name, model) in overrides {
+        let model_field = format!("{field}.{name}");
+        let class = known_class(name, &model_field, "{ ... }")?;
+        model.validate(class, &model_field)?;
+        models[class.index()] = model.clone();
+    }
+    Ok(models)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn defaults_match_the_reference() {
+        let shares = default_class_shares();
+        let total: f64 = shares.values().sum();
+        assert!((total - 1.0).abs() < 1e-12, "{total}");
+        assert!((shares["artic_5axle"] - 0.085).abs() < 1e-12);
+        let profile_mean = DEFAULT_HOURLY_PROFILE.iter().sum::<f64>() / 24.0;
+        assert!((profile_mean - 1.0).abs() < 1e-12, "{profile_mean}");
+    }
+}
