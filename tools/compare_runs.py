@@ -20,7 +20,7 @@ from read_run import load_run
 
 PREFIXES = ("/sensors/", "/truth/sensors/")
 # Allowed difference of the time columns (see the module note), in their units.
-TIME_TOLERANCE = {"log_time_ns": 1000, "time_s": 1e-6}
+TIME_TOLERANCE = {"log_time_ns": 1000, "timestamp_ns": 1000, "time_s": 1e-6}
 
 
 def compare(path_a: str, path_b: str) -> list[str]:
