@@ -1265,6 +1265,56 @@ fn monitoring_cases() -> Vec<Case> {
     ]
 }
 
+/// Issue 6: generated traffic.
+fn traffic_cases() -> Vec<Case> {
+    const DURATION: Edit = Set("duration_s", "60.0");
+    vec![
+        Case::edit(
+            "negative lane flow",
+            &[DURATION, Set("traffic", "{ lanes = [{ flow_per_hour = -5.0 }] }")],
+            &["traffic.lanes.0.flow_per_hour = -5"],
+        ),
+        Case::edit(
+            "class shares not summing to 1",
+            &[
+                DURATION,
+                Set(
+                    "traffic",
+                    "{ lanes = [{ flow_per_hour = 100.0 }], classes = { car = 0.5, truck_2axle = 0.2 } }",
+                ),
+            ],
+            &["traffic.classes"],
+        ),
+        Case::edit(
+            "unknown traffic class",
+            &[
+                DURATION,
+                Set(
+                    "traffic",
+                    "{ lanes = [{ flow_per_hour = 100.0 }], classes = { car = 0.5, hovercraft = 0.5 } }",
+                ),
+            ],
+            &["hovercraft"],
+        ),
+        Case::edit(
+            "traffic without a duration",
+            &[Set("traffic", "{ lanes = [{ flow_per_hour = 100.0 }] }")],
+            &["duration_s = (missing) is required with [traffic]"],
+        )
+        .full_duration(),
+        Case::edit(
+            "vehicle direction 2",
+            &[Set("vehicles.0.direction", "2")],
+            &["vehicles.0.direction = 2 must be 1 (towards +x) or -1"],
+        ),
+    ]
+}
+
+#[test]
+fn traffic() {
+    run_all("traffic", &traffic_cases());
+}
+
 #[test]
 fn monitoring() {
     run_all("monitoring", &monitoring_cases());
@@ -1302,6 +1352,7 @@ fn the_catalogue_has_at_least_45_cases() {
         ("output", output_cases().len()),
         ("CLI", cli_cases().len()),
         ("monitoring", monitoring_cases().len()),
+        ("traffic", traffic_cases().len()),
     ];
     let total: usize = counts.iter().map(|c| c.1).sum();
     eprintln!("bad-input cases: {counts:?}, total {total}");
@@ -1313,6 +1364,7 @@ fn the_catalogue_has_at_least_45_cases() {
         .chain(&output_cases())
         .chain(&cli_cases())
         .chain(&monitoring_cases())
+        .chain(&traffic_cases())
     {
         assert!(
             names.insert(case.name.clone()),

@@ -45,6 +45,10 @@ pub struct Scenario {
     pub sensors: Vec<SensorSpec>,
     #[serde(default)]
     pub wim_stations: Vec<WimStationSpec>,
+    /// Generated traffic (lanes, flows, class mix): vehicles arrive during the run, next to
+    /// the `[[vehicles]]` listed; needs `duration_s`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub traffic: Option<crate::traffic::TrafficSpec>,
     /// Band-limited random loads on the bridge (wind, micro-tremor), their level set by the
     /// RMS acceleration they cause; none by default.
     #[serde(default, skip_serializing_if = "Option::is_none")]

@@ -294,6 +294,16 @@ impl Scenario {
 
         let vehicles = self.resolve_vehicles(dt_ns)?;
         self.validate_daq_nodes()?;
+        if let Some(traffic) = &self.traffic {
+            traffic.validate("traffic")?;
+            if self.duration_s.is_none() {
+                return Err(Error::invalid(
+                    "duration_s",
+                    "(missing)",
+                    "is required with [traffic]: generated traffic has no last vehicle",
+                ));
+            }
+        }
         if let Some(ambient) = &self.ambient {
             ambient.validate("ambient", self.bridge.span_m, dt_s)?;
         }

@@ -8,6 +8,7 @@ mod daq;
 pub mod record;
 mod tap;
 mod tracking;
+mod traffic;
 
 use std::collections::VecDeque;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -79,10 +80,16 @@ pub fn prepare(resolved: &Resolved) -> Result<Prepared> {
         .vehicles
         .iter()
         .map(|v| v.dynamics.wheelbase_m())
-        .fold(0.0, f64::max);
+        .fold(
+            traffic::MAX_WHEELBASE_M * f64::from(s.traffic.is_some()),
+            f64::max,
+        );
     // The road under every axle: the left approach, the bridge and the exit towards +x;
     // for vehicles towards -x the right side holds their approach.
-    let reverse = resolved.vehicles.iter().any(|v| v.direction < 0);
+    let reverse = resolved.vehicles.iter().any(|v| v.direction < 0)
+        || s.traffic
+            .as_ref()
+            .is_some_and(|t| t.lanes.iter().any(|l| l.direction < 0));
     let (left_m, right_m) = match reverse {
         true => {
             let side = s.road.exit_m.max(s.road.approach_m);
@@ -232,6 +239,8 @@ pub fn run_controlled(
         None => None,
     };
 
+    let mut traffic = traffic::Arrivals::new(resolved)?;
+
     let mut stopped_at = None;
     for step in 0..=resolved.steps {
         if step > 0 {
@@ -245,6 +254,7 @@ pub fn run_controlled(
             if let Some(field) = ambient.as_mut() {
                 field.fill(&mut solver.external_load);
             }
+            traffic.admit(step, &mut solver, &mut tracker, &mut merger.truth);
             solver.advance()?;
         }
         let t_ns = step * resolved.dt_ns;

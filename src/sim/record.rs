@@ -30,6 +30,8 @@ pub struct VehicleRecord {
     pub vehicle_id: u32,
     pub model: String,
     pub lane: u32,
+    /// +1 towards +x, -1 towards -x.
+    pub direction: i8,
     pub speed_m_s: f64,
     pub entry_time_ns: Option<u64>,
     pub exit_time_ns: Option<u64>,

@@ -219,6 +219,14 @@ impl Tracker {
         self.x_m = x;
     }
 
+    /// Starts following a vehicle just added to the solver (traffic arrives during the run).
+    pub fn add_vehicle(&mut self, lane: u32, speed_m_s: f64, axles: usize) {
+        let stations = self.wim_positions_m.len();
+        self.tracks
+            .push(new_track(lane, speed_m_s, axles, stations));
+        self.x_m.reserve(axles.saturating_sub(self.x_m.capacity()));
+    }
+
     /// Removes from the solver and from the tracks every vehicle that has left the road
     /// and whose truth record is written, keeping its DLC rows (up to
     /// [`MAX_DLC_VEHICLES`] vehicles): memory follows the vehicles on the road, not the
@@ -359,6 +367,7 @@ fn vehicle_record(v: &crate::solver::CoupledVehicle, track: &VehicleTrack) -> Ve
         vehicle_id: v.id,
         model: v.dynamics.name.clone(),
         lane: track.lane,
+        direction: if v.direction < 0.0 { -1 } else { 1 },
         speed_m_s: track.speed_m_s,
         entry_time_ns: track.entry_ns,
         exit_time_ns: track.exit_ns,

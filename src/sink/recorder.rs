@@ -10,7 +10,7 @@ use super::proto::foxglove::{log::Level, Log};
 use super::proto::v1::{
     AccelerationSample, AxleGroup as WimAxleGroup, AxleLoad, AxleLoads, BridgeState,
     DisplacementSample, FaultInterval, SampleBlock, SensorTruth, SensorTruthBlock, StrainSample,
-    VehicleTruth, WimRecord,
+    TravelDirection, VehicleTruth, WimRecord,
 };
 use super::{metadata, timestamp_from_ns, ChannelId, McapSink, Topics};
 use crate::error::Result;
@@ -429,10 +429,15 @@ impl<'a, W: Write + Seek> McapRecorder<'a, W> {
                 let msg = VehicleTruth {
                     timestamp: ts,
                     vehicle_id: vehicle.vehicle_id,
-                    vehicle_class: vehicle.model.split('/').next().unwrap_or("").to_string(),
+                    // "half_car/two_axle_truck", "rigid_truck/truck_3axle": the class is
+                    // the preset (the last part), the kind the first.
+                    vehicle_class: vehicle.model.rsplit('/').next().unwrap_or("").to_string(),
                     model: vehicle.model.clone(),
                     lane: vehicle.lane,
-                    direction: 1,
+                    direction: match vehicle.direction < 0 {
+                        true => TravelDirection::DecreasingX as i32,
+                        false => TravelDirection::IncreasingX as i32,
+                    },
                     speed_m_s: vehicle.speed_m_s,
                     entry_time: vehicle
                         .entry_time_ns
