@@ -90,7 +90,9 @@ fn rms(x: &[f64]) -> f64 {
     (x.iter().map(|v| v * v).sum::<f64>() / x.len() as f64).sqrt()
 }
 
-/// One-sided Welch PSD (Hann window, 50 % overlap): frequencies and densities.
+/// One-sided Welch PSD (Hann window, 50 % overlap): frequencies and densities. Unlike
+/// the library's `road::welch_psd` it keeps each segment's mean and the DC bin: the
+/// stop-band check below 0.1 Hz reads the first bins, which mean removal would distort.
 fn welch(x: &[f64], fs_hz: f64, nfft: usize) -> (Vec<f64>, Vec<f64>) {
     let fft = FftPlanner::<f64>::new().plan_fft_forward(nfft);
     let window: Vec<f64> = (0..nfft)

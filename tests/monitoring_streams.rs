@@ -5,7 +5,6 @@
 
 use bridgetwin::scenario::Scenario;
 use bridgetwin::sim::{prepare, run, Record, VecRecorder};
-use rustfft::{num_complex::Complex, FftPlanner};
 
 /// The paper's bridge (FE 20, dt 1 ms) for `duration_s`.
 fn bridge(duration_s: f64) -> String {
@@ -57,33 +56,11 @@ fn sensor(id: &str, x: f64, extra: &str) -> String {
     )
 }
 
-/// One-sided Welch PSD (Hann, 50 % overlap) of `x` sampled at `fs_hz`: (frequencies, PSD).
+/// One-sided Welch PSD (the library's: Hann, 50 % overlap) of `x` sampled at `fs_hz`:
+/// (frequencies, PSD).
 fn welch(x: &[f64], fs_hz: f64, segment: usize) -> (Vec<f64>, Vec<f64>) {
-    let window: Vec<f64> = (0..segment)
-        .map(|i| 0.5 - 0.5 * (2.0 * std::f64::consts::PI * i as f64 / segment as f64).cos())
-        .collect();
-    let power: f64 = window.iter().map(|w| w * w).sum();
-    let fft = FftPlanner::new().plan_fft_forward(segment);
-    let mut psd = vec![0.0; segment / 2 + 1];
-    let mut count = 0;
-    let mut start = 0;
-    while start + segment <= x.len() {
-        let mean = x[start..start + segment].iter().sum::<f64>() / segment as f64;
-        let mut buf: Vec<Complex<f64>> = (0..segment)
-            .map(|i| Complex::new((x[start + i] - mean) * window[i], 0.0))
-            .collect();
-        fft.process(&mut buf);
-        for (k, p) in psd.iter_mut().enumerate() {
-            let scale = if k == 0 || k == segment / 2 { 1.0 } else { 2.0 };
-            *p += scale * buf[k].norm_sqr() / (fs_hz * power);
-        }
-        count += 1;
-        start += segment / 2;
-    }
-    let f = (0..psd.len())
-        .map(|k| k as f64 * fs_hz / segment as f64)
-        .collect();
-    (f, psd.iter().map(|p| p / count as f64).collect())
+    let psd = bridgetwin::road::welch_psd(x, 1.0 / fs_hz, segment).expect("welch");
+    (psd.frequencies, psd.density)
 }
 
 #[test]

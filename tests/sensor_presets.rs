@@ -12,8 +12,6 @@ use bridgetwin::sensor::chain::{
 };
 use bridgetwin::sensor::child_rng;
 use rand_chacha::ChaCha8Rng;
-use rustfft::num_complex::Complex;
-use rustfft::FftPlanner;
 use serde::Deserialize;
 
 const PREFIX: &str = "sensors.3";
@@ -56,34 +54,12 @@ fn run(stages: &mut ChainStages, n: usize, fs_hz: f64, input: impl Fn(f64) -> f6
         .collect()
 }
 
-/// One-sided Welch PSD: Hann window, segments of `segment` samples with 50 % overlap,
-/// each segment's mean removed, scaled so that a white sequence of variance s^2 gives
-/// `2 s^2 / fs`. Returns (frequency Hz, PSD unit^2/Hz) for bins 1..segment/2.
+/// One-sided Welch PSD (the library's: Hann window, 50 % overlap, each segment's mean
+/// removed, a white sequence of variance s^2 giving `2 s^2 / fs`): (frequency Hz,
+/// PSD unit^2/Hz) for bins 1 .. segment/2 - 1.
 fn welch(x: &[f64], fs_hz: f64, segment: usize) -> Vec<(f64, f64)> {
-    let fft = FftPlanner::<f64>::new().plan_fft_forward(segment);
-    let window: Vec<f64> = (0..segment)
-        .map(|i| 0.5 - 0.5 * (2.0 * PI * i as f64 / segment as f64).cos())
-        .collect();
-    let window_power: f64 = window.iter().map(|w| w * w).sum();
-    let mut sum = vec![0.0; segment / 2];
-    let mut count = 0;
-    let mut buffer = vec![Complex::new(0.0, 0.0); segment];
-    for start in (0..=x.len() - segment).step_by(segment / 2) {
-        let seg = &x[start..start + segment];
-        let mean = seg.iter().sum::<f64>() / segment as f64;
-        for ((b, &v), &w) in buffer.iter_mut().zip(seg).zip(&window) {
-            *b = Complex::new((v - mean) * w, 0.0);
-        }
-        fft.process(&mut buffer);
-        for (s, b) in sum.iter_mut().zip(&buffer).skip(1) {
-            *s += b.norm_sqr();
-        }
-        count += 1;
-    }
-    let scale = 2.0 / (fs_hz * window_power * count as f64);
-    (1..segment / 2)
-        .map(|k| (k as f64 * fs_hz / segment as f64, sum[k] * scale))
-        .collect()
+    let psd = bridgetwin::road::welch_psd(x, 1.0 / fs_hz, segment).expect("welch");
+    psd.frequencies.into_iter().zip(psd.density).collect()
 }
 
 /// Mean of `measured / expected(f)` over the bins in `[low, high]`.

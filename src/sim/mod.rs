@@ -177,7 +177,6 @@ pub fn run_controlled(
         );
     }
     let mut taps = Vec::new();
-    let mut clip_counters = Vec::new();
     let mut ops = Vec::new();
     for (i, sensor) in resolved.sensors.iter().enumerate() {
         let measured_index = match sensor.spec.kind {
@@ -186,15 +185,15 @@ pub fn run_controlled(
             SensorKind::Strain => 3,
         };
         let (channel, clipped) = daq::sensor_channel(resolved, sensor, i)?;
-        if let Some(counter) = clipped {
-            clip_counters.push((i, counter));
-        }
-        taps.push(SensorTap::new(
-            i,
-            channel,
-            measured_index,
-            daq::fault_injector(resolved, sensor, i)?,
-        ));
+        taps.push(
+            SensorTap::new(
+                i,
+                channel,
+                measured_index,
+                daq::fault_injector(resolved, sensor, i)?,
+            )
+            .with_clip_counter(clipped),
+        );
         let x = sensor.spec.position_m;
         let mut d = SparseVec::with_capacity(model.n_dof());
         let mut m = SparseVec::with_capacity(model.n_dof());
@@ -291,29 +290,12 @@ pub fn run_controlled(
     }
     tracker.finish(&solver, &mut merger.truth);
     let end_ns = stopped_at.unwrap_or(resolved.steps) * resolved.dt_ns;
-    for (i, tap) in taps.iter().enumerate() {
-        if tap.random_losses() > 0 {
+    for (tap, sensor) in taps.iter().zip(&resolved.sensors) {
+        for text in tap.end_notes(&sensor.spec.id) {
             merger.truth.push_back(Record::Event {
                 t_ns: end_ns,
                 level: EventLevel::Warning,
-                text: format!(
-                    "sensor {}: {} samples lost at random (each labelled on /truth/faults)",
-                    resolved.sensors[i].spec.id,
-                    tap.random_losses()
-                ),
-            });
-        }
-    }
-    for (i, counter) in &clip_counters {
-        if counter.get() > 0 {
-            merger.truth.push_back(Record::Event {
-                t_ns: end_ns,
-                level: EventLevel::Warning,
-                text: format!(
-                    "sensor {}: {} samples clipped at the ADC range (off-scale)",
-                    resolved.sensors[*i].spec.id,
-                    counter.get()
-                ),
+                text,
             });
         }
     }

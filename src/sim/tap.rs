@@ -13,6 +13,7 @@ use std::collections::VecDeque;
 
 use super::record::Record;
 use crate::daq::{FaultInjector, FaultKind, FaultLabel, OPEN_END_NS};
+use crate::sensor::chain::ClipCounter;
 use crate::sensor::{hermite, SensorChannel, HERMITE_LOOKAHEAD, HERMITE_LOOKBACK};
 
 /// Response quantities at a point, output sign convention (downward positive).
@@ -98,6 +99,8 @@ pub struct SensorTap {
     emitted: u64,
     /// Single samples lost at random so far (labelled on `/truth/faults` only).
     random_losses: u64,
+    /// The ADC stage's count of clipped samples, if the chain has an ADC.
+    clipped: Option<ClipCounter>,
 }
 
 impl SensorTap {
@@ -122,30 +125,58 @@ impl SensorTap {
             ready: VecDeque::with_capacity(8),
             emitted: 0,
             random_losses: 0,
+            clipped: None,
         }
+    }
+
+    /// The same tap reporting the chain's clipped samples at the end of the run.
+    pub fn with_clip_counter(mut self, clipped: Option<ClipCounter>) -> Self {
+        self.clipped = clipped;
+        self
+    }
+
+    /// What the run announces on `/events` about this sensor at its end: the samples
+    /// lost at random (each has its own label on `/truth/faults`, one line here rather
+    /// than one per sample) and the samples clipped at the ADC range.
+    pub fn end_notes(&self, id: &str) -> Vec<String> {
+        let mut notes = Vec::new();
+        if self.random_losses > 0 {
+            notes.push(format!(
+                "sensor {id}: {} samples lost at random (each labelled on /truth/faults)",
+                self.random_losses
+            ));
+        }
+        if let Some(clipped) = self
+            .clipped
+            .as_ref()
+            .map(ClipCounter::get)
+            .filter(|&n| n > 0)
+        {
+            notes.push(format!(
+                "sensor {id}: {clipped} samples clipped at the ADC range (off-scale)"
+            ));
+        }
+        notes
     }
 
     /// Feeds one solver step of all quantities at the sensor's point.
     pub fn push(&mut self, values: &Quantities) {
         self.history.push(values);
         let measured = values[self.measured_index];
-        let Self {
-            sensor,
-            channel,
-            history,
-            ready,
-            ..
-        } = self;
-        let mut count = 0;
-        channel.push(measured, |s| {
-            ready.push_back(sample_record(*sensor, history, s));
-            count += 1;
-        });
-        self.apply_faults(count);
+        self.hand_over(|channel, emit| channel.push(measured, emit));
     }
 
     /// Flushes the filter at the end of the run.
     pub fn flush(&mut self) {
+        self.hand_over(|channel, emit| channel.flush(emit));
+    }
+
+    /// Queues the samples `drive` makes the channel emit, with their truth from the
+    /// history, then passes them through the faults.
+    fn hand_over(
+        &mut self,
+        drive: impl FnOnce(&mut SensorChannel, &mut dyn FnMut(crate::sensor::ChannelSample)) -> usize,
+    ) {
         let Self {
             sensor,
             channel,
@@ -153,10 +184,8 @@ impl SensorTap {
             ready,
             ..
         } = self;
-        let mut count = 0;
-        channel.flush(|s| {
-            ready.push_back(sample_record(*sensor, history, s));
-            count += 1;
+        let count = drive(channel, &mut |s| {
+            ready.push_back(sample_record(*sensor, history, s))
         });
         self.apply_faults(count);
     }
@@ -187,12 +216,6 @@ impl SensorTap {
             }
             i += 1;
         }
-    }
-
-    /// Samples lost at random so far: each has its own label on `/truth/faults`, and the
-    /// run announces their count once on `/events` rather than one line per sample.
-    pub fn random_losses(&self) -> u64 {
-        self.random_losses
     }
 
     /// The time of the next record, if any.
