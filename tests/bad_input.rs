@@ -1310,9 +1310,83 @@ fn traffic_cases() -> Vec<Case> {
     ]
 }
 
+/// Issue 6: temperature and damage.
+fn condition_cases() -> Vec<Case> {
+    const CSV_AIR: Edit = Set(
+        "environment",
+        "{ temperature = { kind = \"csv\", path = \"air.csv\" } }",
+    );
+    vec![
+        Case::edit(
+            "temperature CSV with a word for a value",
+            &[CSV_AIR],
+            &["air.csv", "line 3", "abc"],
+        )
+        .file("air.csv", b"time_s,temperature_c\n0,20\n60,abc\n"),
+        Case::edit(
+            "temperature CSV with the wrong header",
+            &[CSV_AIR],
+            &["air.csv", "time_s,temperature_c"],
+        )
+        .file("air.csv", b"t,T\n0,20\n60,21\n"),
+        Case::edit(
+            "temperature CSV going back in time",
+            &[CSV_AIR],
+            &["air.csv", "line 4"],
+        )
+        .file("air.csv", b"time_s,temperature_c\n0,20\n60,21\n30,22\n"),
+        Case::edit("temperature CSV missing", &[CSV_AIR], &["air.csv"]),
+        Case::edit(
+            "damage region beyond the span",
+            &[Set(
+                "damage",
+                "[{ start_m = 20.0, end_m = 40.0, reduction = 0.2, onset_s = 0.1 }]",
+            )],
+            &["damage.0.end_m = 40"],
+        ),
+        Case::edit(
+            "damage reduction of 1",
+            &[Set(
+                "damage",
+                "[{ start_m = 10.0, end_m = 12.0, reduction = 1.0, onset_s = 0.1 }]",
+            )],
+            &["damage.0.reduction = 1", "(0, 1)"],
+        ),
+        Case::edit(
+            "damage reduction negative",
+            &[Set(
+                "damage",
+                "[{ start_m = 10.0, end_m = 12.0, reduction = -0.1, onset_s = 0.1 }]",
+            )],
+            &["damage.0.reduction = -0.1"],
+        ),
+        Case::edit(
+            "negative thermal lag",
+            &[Set("environment", "{ lag_s = -3.0 }")],
+            &["environment.lag_s = -3"],
+        ),
+        Case::edit(
+            "damage on a modal model",
+            &[
+                Set("bridge.model", "{ kind = \"modal\", modes = 4 }"),
+                Set(
+                    "damage",
+                    "[{ start_m = 10.0, end_m = 12.0, reduction = 0.2, onset_s = 0.1 }]",
+                ),
+            ],
+            &["bridge.model", "modal"],
+        ),
+    ]
+}
+
 #[test]
 fn traffic() {
     run_all("traffic", &traffic_cases());
+}
+
+#[test]
+fn condition() {
+    run_all("condition", &condition_cases());
 }
 
 #[test]
@@ -1353,6 +1427,7 @@ fn the_catalogue_has_at_least_45_cases() {
         ("CLI", cli_cases().len()),
         ("monitoring", monitoring_cases().len()),
         ("traffic", traffic_cases().len()),
+        ("condition", condition_cases().len()),
     ];
     let total: usize = counts.iter().map(|c| c.1).sum();
     eprintln!("bad-input cases: {counts:?}, total {total}");
@@ -1365,6 +1440,7 @@ fn the_catalogue_has_at_least_45_cases() {
         .chain(&cli_cases())
         .chain(&monitoring_cases())
         .chain(&traffic_cases())
+        .chain(&condition_cases())
     {
         assert!(
             names.insert(case.name.clone()),

@@ -197,6 +197,8 @@ fn write_fixture<W: Write + Seek>(sink: &mut McapSink<W>) -> Written {
                     temperature_c: 20.0,
                     midspan_deflection_m: 1e-3 * x,
                     stiffness_ratio: Vec::new(),
+                    air_temperature_c: 18.0,
+                    damage_fraction: Vec::new(),
                 }
             );
         }

@@ -731,3 +731,42 @@ fn bad_multi_axle_inputs_name_the_field() {
         toml::from_str("kind = \"articulated\"\npreset = \"artic_5axle\"\nbody_mass_kg = 1.0");
     assert!(unknown.unwrap_err().to_string().contains("body_mass_kg"));
 }
+
+/// Per-vehicle variation (`VehicleDynamics::varied`, applied to generated traffic) equals
+/// rebuilding the vehicle from its parameters with every spring times `f` and every
+/// damper times `g`, static loads included: the rebuild solves gravity on the scaled
+/// springs, so equal static loads show the drawn axle loads stay the truth.
+#[test]
+fn varying_springs_and_dampers_keeps_the_static_axle_loads() {
+    let (f, g) = (1.17, 0.86);
+    let scale = |axles: &mut [bridgetwin::vehicle::AxleParams]| {
+        for a in axles {
+            a.suspension_stiffness_n_m *= f;
+            a.tyre_stiffness_n_m *= f;
+            a.suspension_damping_n_s_m *= g;
+            a.tyre_damping_n_s_m *= g;
+        }
+    };
+    let mut rigid = RigidTruckSpec::preset("truck_3axle")
+        .unwrap()
+        .params(PATH)
+        .unwrap();
+    let rigid_varied = rigid.build("x").unwrap().varied(f, g);
+    scale(&mut rigid.axles);
+    let mut artic = artic_params();
+    let artic_varied = artic.build("x").unwrap().varied(f, g);
+    scale(&mut artic.axles);
+    for (varied, rebuilt) in [
+        (rigid_varied, rigid.build("x").unwrap()),
+        (artic_varied, artic.build("x").unwrap()),
+    ] {
+        let close = |a: &DMatrix<f64>, b: &DMatrix<f64>| (a - b).norm() <= 1e-12 * b.norm();
+        assert!(close(&varied.stiffness, &rebuilt.stiffness));
+        assert!(close(&varied.damping, &rebuilt.damping));
+        for (a, b) in varied.axles.iter().zip(&rebuilt.axles) {
+            assert!(rel(a.static_load_n, b.static_load_n) < 1e-9);
+            assert!(rel(a.tyre_stiffness_n_m, b.tyre_stiffness_n_m) < 1e-12);
+            assert!(rel(a.tyre_damping_n_s_m, b.tyre_damping_n_s_m) < 1e-12);
+        }
+    }
+}

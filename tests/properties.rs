@@ -291,6 +291,9 @@ fn record_floats(record: &Record) -> Vec<(&'static str, f64)> {
             out.push(("wim.gross_weight_n", m.gross_weight_n));
             out.extend(m.axle_spacing_m.iter().map(|&v| ("wim.axle_spacing_m", v)));
             out.extend(m.axle_load_n.iter().map(|&v| ("wim.axle_load_n", v)));
+            out.push(("wim.truth.speed_rel", m.truth.speed_rel));
+            out.push(("wim.truth.gross_rel", m.truth.gross_rel));
+            out.extend(m.truth.axle_rel.iter().map(|&v| ("wim.truth.axle_rel", v)));
         }
         Record::Event { .. } => {}
     }

@@ -61,6 +61,29 @@ fn two_way_traffic_flows_without_overlaps_and_keeps_every_weight() {
             "no vehicle towards {dir}"
         );
     }
+    // Each vehicle's springs and dampers vary (traffic.parameter_sd_rel, default 0.1):
+    // the sample sd of ~80 factors lies within 0.1 +/- 25 % (3 sd of the estimate).
+    let factors: Vec<f64> = recs
+        .iter()
+        .filter_map(|r| match r {
+            Record::Vehicle { vehicle, .. } => vehicle
+                .parameters
+                .iter()
+                .find(|(name, _)| name == "variation_stiffness_factor")
+                .map(|p| p.1),
+            _ => None,
+        })
+        .collect();
+    assert!(
+        factors.len() + 2 >= vehicles.len(),
+        "{} factors",
+        factors.len()
+    );
+    let mean = factors.iter().sum::<f64>() / factors.len() as f64;
+    let sd = (factors.iter().map(|f| (f - mean).powi(2)).sum::<f64>() / (factors.len() - 1) as f64)
+        .sqrt();
+    assert!((0.075..0.125).contains(&sd), "sd {sd}, mean {mean}");
+    assert!((mean - 1.0).abs() < 0.04, "mean {mean}");
     let mut several_on_bridge = 0;
     for axles in axle_snapshots(&recs) {
         // Static axle loads add up to each vehicle's weight (1e-9: the same numbers).

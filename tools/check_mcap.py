@@ -12,7 +12,9 @@ Checks, per file:
 - log_time is never 0, never decreases through the file, equals publish_time and the
   message's ``timestamp`` field (on the measured topics of sensors on a DAQ node clock,
   channel metadata ``daq_node``, the timestamp is the node's: within 1 s of log_time);
-- sequence counts 1, 2, 3 ... on every channel;
+- sequence counts 1, 2, 3 ... on every channel (in a later part of a split run, metadata
+  ``split`` with ``part`` > 0, it goes on from the previous part: consecutive from where
+  each channel starts);
 - metadata records ``bridgetwin``, ``scenario`` and ``bridge_model`` exist (switchable).
 
 Prints one ``OK`` line per valid file; otherwise ``FAIL`` lines on stderr, exit status 1.
@@ -62,24 +64,29 @@ class Problems:
         ]
 
 
-def scan_records(path: str, problems: Problems) -> Counter:
-    """Linear pass over every record, CRCs checked. Returns counts by record kind."""
+def scan_records(path: str, problems: Problems) -> tuple[Counter, bool]:
+    """Linear pass over every record, CRCs checked. Returns counts by record kind, and
+    whether the file is a later part of a split run (its sequences go on from the last)."""
     counts: Counter = Counter()
     metadata_names = []
+    continued = False
     with open(path, "rb") as f:
         for record in StreamReader(f, validate_crcs=True).records:
             counts[type(record).__name__] += 1
             if isinstance(record, Metadata):
                 metadata_names.append(record.name)
+                if record.name == "split":
+                    continued = int(record.metadata.get("part", "0")) > 0
     problems.check(counts[DataEnd.__name__] == 1, "no DataEnd record (file not finished?)")
     problems.check(counts[Footer.__name__] == 1, "no Footer record (file not finished?)")
     problems.check(counts[Chunk.__name__] == 0, "chunk left undecoded by the stream reader")
     counts.update(f"metadata:{name}" for name in metadata_names)
-    return counts
+    return counts, continued
 
 
-def check_messages(path: str, problems: Problems) -> tuple[dict, dict]:
-    """Indexed pass with decoding, in file order. Returns (summary info, observed)."""
+def check_messages(path: str, problems: Problems, continued: bool) -> tuple[dict, dict]:
+    """Indexed pass with decoding, in file order. Returns (summary info, observed).
+    `continued`: a later part of a split run, whose channels start anywhere from 1."""
     per_channel: Counter = Counter()
     last_sequence: dict[int, int] = {}
     first_ns = last_ns = None
@@ -103,9 +110,10 @@ def check_messages(path: str, problems: Problems) -> tuple[dict, dict]:
                 f"{topic} order",
             )
             problems.check(message.publish_time == t_ns, f"{topic}: publish_time != log_time", f"{topic} publish")
-            expected = last_sequence.get(channel.id, 0) + 1
+            first = channel.id not in last_sequence
+            expected = message.sequence if continued and first else last_sequence.get(channel.id, 0) + 1
             problems.check(
-                message.sequence == expected,
+                message.sequence == expected and message.sequence >= 1,
                 f"{topic}: sequence {message.sequence}, expected {expected}",
                 f"{topic} sequence",
             )
@@ -145,8 +153,8 @@ def check_messages(path: str, problems: Problems) -> tuple[dict, dict]:
 def check_file(path: str, require_metadata: bool) -> tuple[Problems, str]:
     problems = Problems()
     try:
-        records = scan_records(path, problems)
-        info, seen = check_messages(path, problems)
+        records, continued = scan_records(path, problems)
+        info, seen = check_messages(path, problems, continued)
     except Exception as error:  # any reader or decoder error is a failed check
         detail = str(error) or "unexpected end of data (truncated or unfinished file?)"
         problems.add(f"{type(error).__name__}: {detail}")

@@ -171,6 +171,18 @@ impl BridgeModel {
         self.omega_rad_s[n - 1] / (2.0 * std::f64::consts::PI)
     }
 
+    /// Natural frequencies (Hz) and Rayleigh damping ratios of the lowest `n` modes (fewer
+    /// when the model has fewer).
+    pub fn modal_summary(&self, n: usize) -> (Vec<f64>, Vec<f64>) {
+        let n = self.omega_rad_s.len().min(n);
+        let frequencies = (1..=n).map(|k| self.frequency_hz(k)).collect();
+        let ratios = self.omega_rad_s[..n]
+            .iter()
+            .map(|&w| self.rayleigh.ratio_at(w))
+            .collect();
+        (frequencies, ratios)
+    }
+
     /// Span (m).
     pub fn span_m(&self) -> f64 {
         self.beam.span_m

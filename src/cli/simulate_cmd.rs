@@ -17,7 +17,9 @@ pub struct SimulateArgs {
     /// Re-run the scenario stored in a bridgetwin MCAP file (same seed: same bytes).
     #[arg(long, value_name = "FILE.mcap")]
     pub from: Option<PathBuf>,
-    /// Output MCAP file (written as FILE.partial, renamed on success).
+    /// Output MCAP file (written as FILE.partial, renamed on success). With the scenario's
+    /// `output.split_every_s`, the pattern of the parts' names: `day.mcap` gives
+    /// `day-0000.mcap`, `day-0001.mcap`, ...
     #[arg(long)]
     pub out: PathBuf,
     /// Override the scenario's seed.
@@ -26,7 +28,7 @@ pub struct SimulateArgs {
     /// Override the duration (s).
     #[arg(long, allow_negative_numbers = true)]
     pub duration_s: Option<f64>,
-    /// Replace an existing output file.
+    /// Replace an existing output file (or part).
     #[arg(long)]
     pub force: bool,
     /// Print the time split: setup, physics + sensors, writing.
@@ -46,12 +48,63 @@ pub fn load_scenario(path: Option<&Path>) -> Result<(Scenario, String)> {
     }
 }
 
-/// The run was stopped by SIGINT or SIGTERM; the file was kept as `.partial`.
+/// The run was stopped by SIGINT or SIGTERM; the file (of a split run: the current part)
+/// was kept as `.partial`, the parts completed before it keep their final names.
 #[derive(Debug, thiserror::Error)]
-#[error("interrupted at t = {stopped_at_s:.3} s: kept the data written so far in {partial}")]
+#[error(
+    "interrupted at t = {stopped_at_s:.3} s: kept the data written so far in {partial}{}",
+    completed_note(completed_parts)
+)]
 pub struct Interrupted {
     pub stopped_at_s: f64,
     pub partial: String,
+    /// Parts of a split run completed before the interruption.
+    pub completed_parts: Vec<PathBuf>,
+}
+
+/// ", after 2 complete parts (day-0000.mcap .. day-0001.mcap)", or nothing.
+fn completed_note(parts: &[PathBuf]) -> String {
+    match parts.len() {
+        0 => String::new(),
+        n => format!(", after {} ({})", count(n, "complete part"), span(parts)),
+    }
+}
+
+/// "1 file", "24 files".
+fn count(n: usize, noun: &str) -> String {
+    match n {
+        1 => format!("1 {noun}"),
+        _ => format!("{n} {noun}s"),
+    }
+}
+
+/// `a.mcap`, or `first .. last` of several files.
+fn span(paths: &[PathBuf]) -> String {
+    match paths {
+        [] => String::new(),
+        [one] => one.display().to_string(),
+        [first, .., last] => format!("{} .. {}", first.display(), last.display()),
+    }
+}
+
+/// The sink options of a run: `force`, and one file per `output.split_every_s` of
+/// simulated time from the scenario start to its end (the closing instant goes into the
+/// last part).
+fn sink_options(resolved: &crate::scenario::Resolved, force: bool) -> SinkOptions {
+    let start_ns = resolved.start_time_ns;
+    let duration_ns = resolved.steps.saturating_mul(resolved.dt_ns);
+    SinkOptions {
+        force,
+        // Validated >= 1 s: the rounding to whole ns cannot reach 0.
+        split_every_ns: resolved
+            .scenario
+            .output
+            .split_every_s
+            .map(|every_s| (every_s * 1e9).round() as u64),
+        split_start_ns: start_ns,
+        split_end_ns: Some(start_ns.saturating_add(duration_ns)),
+        ..Default::default()
+    }
 }
 
 /// Runs `simulate`.
@@ -70,19 +123,18 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
     let resolved = scenario.resolve()?;
     print_warnings(&resolved);
     let prepared = crate::sim::prepare(&resolved)?;
-    let mut sink = McapSink::create(
-        &args.out,
-        SinkOptions {
-            force: args.force,
-            ..Default::default()
-        },
-    )?;
+    let mut sink = McapSink::create(&args.out, sink_options(&resolved, args.force))?;
     let stop = super::terminal::stop_on_signals()?;
-    let bar =
-        super::terminal::progress_bar(resolved.steps, "{bar:40} {pos}/{len} steps ({eta} left)");
-    let mut progress = |step, _| {
+    let bar = super::terminal::progress_bar(resolved.steps, "{bar:30} {msg} ({eta} left)");
+    let loop_start = std::time::Instant::now();
+    let mut progress = |p: &crate::sim::RunProgress| {
         if let Some(b) = &bar {
-            b.set_position(step);
+            b.set_position(p.step);
+            b.set_message(progress_line(
+                p,
+                resolved.duration_s(),
+                loop_start.elapsed(),
+            ));
         }
     };
     let mut control = crate::sim::Control {
@@ -102,10 +154,12 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
     }
     match outcome.map_err(anyhow::Error::from) {
         Ok(Written { summary, .. }) if summary.stopped_at_s.is_some() => {
+            let completed_parts = sink.parts()?.to_vec();
             let partial = sink.finish_partial()?;
             Err(Interrupted {
                 stopped_at_s: summary.stopped_at_s.unwrap_or(0.0),
                 partial: partial.display().to_string(),
+                completed_parts,
             }
             .into())
         }
@@ -115,13 +169,20 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
             loop_s,
             write_s,
         }) => {
-            let path = sink.finish()?;
-            let bytes = std::fs::metadata(&path).map(|m| m.len()).unwrap_or(0);
+            let split = resolved.scenario.output.split_every_s.is_some();
+            let paths = sink.finish_parts()?;
+            let bytes: u64 = paths
+                .iter()
+                .map(|path| std::fs::metadata(path).map_or(0, |m| m.len()))
+                .sum();
             let wall_s = started.elapsed().as_secs_f64();
+            let files = match split {
+                false => format!("{:.1} MiB", bytes as f64 / 1048576.0),
+                true => format!("{}, {}", count(paths.len(), "file"), size_text(bytes)),
+            };
             eprintln!(
-                "wrote {} ({:.1} MiB, {} messages, {:.1} B/message): {:.2} s simulated in {:.2} s ({:.0}x real time)",
-                path.display(),
-                bytes as f64 / 1048576.0,
+                "wrote {} ({files}, {} messages, {:.1} B/message): {:.2} s simulated in {:.2} s ({:.0}x real time)",
+                span(&paths),
                 messages,
                 bytes as f64 / messages.max(1) as f64,
                 summary.duration_s,
@@ -137,6 +198,13 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
                     .unwrap_or(f64::NAN),
                 summary.road_description
             );
+            if summary.model_rebuilds > 0 {
+                eprintln!(
+                    "bridge model rebuilt {} times for temperature and damage; f1 at the end = {:.3} Hz",
+                    summary.model_rebuilds,
+                    summary.final_frequencies_hz.first().copied().unwrap_or(f64::NAN)
+                );
+            }
             for (id, axle, dlc, sigma) in &summary.dlc {
                 eprintln!("vehicle {id} axle {axle}: on the bridge, at every solver step, max/static = {dlc:.3}, sigma/static = {sigma:.3}");
             }
@@ -151,7 +219,16 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
             Ok(())
         }
         Err(e) => {
+            let completed_parts = sink.parts().map(<[_]>::to_vec).unwrap_or_default();
             sink.discard();
+            if !completed_parts.is_empty() {
+                // They are whole, valid files: say so rather than leave them unexplained.
+                eprintln!(
+                    "note: the run failed; its {} stay ({})",
+                    count(completed_parts.len(), "complete part"),
+                    span(&completed_parts)
+                );
+            }
             Err(e)
         }
     }
@@ -169,6 +246,15 @@ fn print_timings(wall_s: f64, loop_s: f64, write_s: f64, simulated_s: f64) {
     );
     if let Some(kib) = peak_rss_kib() {
         eprintln!("peak memory (VmHWM): {:.1} MiB", kib as f64 / 1024.0);
+    }
+}
+
+/// `812.4 MiB`, or `8.9 GiB` from 1 GiB on.
+fn size_text(bytes: u64) -> String {
+    const GIB: f64 = 1024.0 * 1024.0 * 1024.0;
+    match bytes as f64 {
+        b if b >= GIB => format!("{:.1} GiB", b / GIB),
+        b => format!("{:.1} MiB", b / 1048576.0),
     }
 }
 
@@ -205,4 +291,27 @@ pub fn check(path: &Path) -> Result<()> {
         resolved.steps
     );
     Ok(())
+}
+
+/// The progress bar's message: simulated time, vehicles, model rebuilds and the rate.
+fn progress_line(
+    p: &crate::sim::RunProgress,
+    duration_s: f64,
+    wall: std::time::Duration,
+) -> String {
+    let rate = p.time_s / wall.as_secs_f64().max(1e-9);
+    let mut line = format!(
+        "{:.0} of {duration_s:.0} s simulated, {rate:.0}x real time",
+        p.time_s
+    );
+    if p.vehicles_on_road > 0 || p.vehicles_passed > 0 {
+        line.push_str(&format!(
+            " | vehicles: {} on the road, {} passed",
+            p.vehicles_on_road, p.vehicles_passed
+        ));
+    }
+    if p.model_rebuilds > 0 {
+        line.push_str(&format!(" | {} model rebuilds", p.model_rebuilds));
+    }
+    line
 }

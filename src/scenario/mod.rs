@@ -56,6 +56,13 @@ pub struct Scenario {
     /// DAQ nodes whose clocks stamp their sensors' samples (`sensors.N.daq_node`).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub daq_nodes: Vec<crate::daq::DaqNodeSpec>,
+    /// Air temperature, its lag into the structure and E(T); with it the bridge model is
+    /// rebuilt as the stiffness drifts. None by default: EI stays the scenario's.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub environment: Option<crate::environment::EnvironmentSpec>,
+    /// Damaged regions: EI loss with an onset time and a growth law.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub damage: Vec<crate::environment::DamageSpec>,
     #[serde(default)]
     pub output: OutputSection,
 }
@@ -308,6 +315,12 @@ pub struct OutputSection {
     /// Rate of the deflected shape on `/truth/bridge` (Hz, must divide the solver rate; default 20).
     #[serde(default = "default_bridge_rate")]
     pub bridge_state_rate_hz: f64,
+    /// Starts a new file every this much simulated time (s, >= 1): `--out day.mcap` writes
+    /// `day-0000.mcap`, `day-0001.mcap`, ... each a complete MCAP with every channel, as a
+    /// monitoring system keeps hourly files. Memory then stays flat however long the run
+    /// (one file's index grows with its size). Default: one file.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub split_every_s: Option<f64>,
 }
 
 fn default_layout() -> Layout {
@@ -330,6 +343,7 @@ impl Default for OutputSection {
             block_samples: default_block(),
             axle_load_rate_hz: default_axle_rate(),
             bridge_state_rate_hz: default_bridge_rate(),
+            split_every_s: None,
         }
     }
 }
@@ -379,12 +393,20 @@ impl Scenario {
         Ok((scenario, text))
     }
 
-    /// Joins relative file paths in the scenario (the road CSV) to `base_dir`.
+    /// Joins relative file paths in the scenario (the road and temperature CSVs) to `base_dir`.
     pub fn resolve_relative_paths(&mut self, base_dir: &Path) {
-        if let RoadProfileSpec::Csv { path } = &mut self.road.profile {
+        let join = |path: &mut String| {
             if Path::new(path.as_str()).is_relative() && !base_dir.as_os_str().is_empty() {
                 *path = base_dir.join(path.as_str()).to_string_lossy().into_owned();
             }
+        };
+        if let RoadProfileSpec::Csv { path } = &mut self.road.profile {
+            join(path);
+        }
+        if let Some(crate::environment::TemperatureSpec::Csv { path }) =
+            self.environment.as_mut().map(|e| &mut e.temperature)
+        {
+            join(path);
         }
     }
 

@@ -304,6 +304,7 @@ impl Scenario {
                 ));
             }
         }
+        self.validate_condition()?;
         if let Some(ambient) = &self.ambient {
             ambient.validate("ambient", self.bridge.span_m, dt_s)?;
         }
@@ -344,6 +345,15 @@ impl Scenario {
                 self.output.block_samples,
                 "must be in 1..=100000",
             ));
+        }
+        if let Some(split_s) = self.output.split_every_s {
+            if !(split_s.is_finite() && split_s >= 1.0) {
+                return Err(Error::invalid(
+                    "output.split_every_s",
+                    num(split_s),
+                    "must be at least 1 s of simulated time per file",
+                ));
+            }
         }
         let axle_stride = stride(
             "output.axle_load_rate_hz",
@@ -494,6 +504,28 @@ impl Scenario {
             }
             _ => Ok(duration_s),
         }
+    }
+
+    /// `[environment]` and `[[damage]]`: each field, the regions on the span, and a model
+    /// that can be rebuilt for a local EI change.
+    fn validate_condition(&self) -> Result<()> {
+        if let Some(environment) = &self.environment {
+            environment.validate("environment")?;
+        }
+        crate::environment::validate_damage(&self.damage, self.bridge.span_m)?;
+        if !self.damage.is_empty() {
+            if let ModelSpec::Modal { .. } = self.bridge.model {
+                // A local EI loss changes the mode shapes: the modal coordinates of the
+                // running state would mean something else in the rebuilt basis.
+                return Err(Error::invalid(
+                    "bridge.model",
+                    self.bridge.model.label(),
+                    "a modal model cannot follow [[damage]] (it changes the mode shapes): \
+                     use kind = \"finite_element\" or \"lumped_mass\"",
+                ));
+            }
+        }
+        Ok(())
     }
 
     fn resolve_vehicles(&self, dt_ns: u64) -> Result<Vec<ResolvedVehicle>> {

@@ -11,14 +11,10 @@ use super::record::{EventLevel, Record};
 use crate::daq::{ClockError, FaultInjector, NodeClock};
 use crate::error::Result;
 use crate::scenario::{Resolved, ResolvedSensor};
-use crate::sensor::chain::ChainStages;
+use crate::sensor::chain::{ChainStages, TemperatureFn};
 use crate::sensor::{
     child_rng, AntiAliasOptions, ChannelSpec, InstantSource, SensorChannel, WhiteNoise,
 };
-
-/// Air temperature seen by the sensors' DC bias drift (degC). Constant until an
-/// environment model drives it; the bias tempco then has no effect.
-const SENSOR_TEMPERATURE_DEGC: f64 = 20.0;
 
 impl InstantSource for NodeClock {
     fn next_instant(&mut self) -> (f64, i64) {
@@ -50,8 +46,20 @@ fn anti_alias_gain(rate_hz: f64, f_hz: f64) -> f64 {
 
 /// The measurement-chain stages of sensor `index` (`None` without a chain). Every call
 /// draws the same realised values (gain error, bias, hum phase) from the sensor's
-/// streams, so the recorder can describe the chain the run uses.
+/// streams, so the recorder can describe the chain the run uses. The DC bias drift reads
+/// the reference temperature here (the realised bias is the value at it).
 pub fn chain_stages(resolved: &Resolved, sensor: &ResolvedSensor) -> Result<Option<ChainStages>> {
+    let reference: TemperatureFn = std::sync::Arc::new(|_| crate::environment::DEFAULT_AIR_C);
+    chain_stages_at(resolved, sensor, reference)
+}
+
+/// [`chain_stages`] with the bias drift reading `temperature_degc` (the air temperature
+/// of the run's environment).
+fn chain_stages_at(
+    resolved: &Resolved,
+    sensor: &ResolvedSensor,
+    temperature_degc: TemperatureFn,
+) -> Result<Option<ChainStages>> {
     let Some(chain) = &sensor.chain else {
         return Ok(None);
     };
@@ -60,22 +68,21 @@ pub fn chain_stages(resolved: &Resolved, sensor: &ResolvedSensor) -> Result<Opti
     let rate_hz = sensor.spec.rate_hz;
     let mut rng_for = |name: &str| child_rng(seed, &format!("sensor/{id}/{name}"));
     chain
-        .stages(
-            rate_hz,
-            &mut rng_for,
-            std::sync::Arc::new(|_| SENSOR_TEMPERATURE_DEGC),
-            &|f| anti_alias_gain(rate_hz, f),
-        )
+        .stages(rate_hz, &mut rng_for, temperature_degc, &|f| {
+            anti_alias_gain(rate_hz, f)
+        })
         .map(Some)
 }
 
 /// The DAQ channel of sensor `index`: anti-alias filter and resampling to its rate, its
 /// measurement chain (or plain white self-noise) on the sensor's own streams, and its
-/// node's clock. Also the chain's clipped-sample counter.
+/// node's clock. Also the chain's clipped-sample counter. The chain's bias drift reads
+/// `temperature_degc`.
 pub(super) fn sensor_channel(
     resolved: &Resolved,
     sensor: &ResolvedSensor,
     index: usize,
+    temperature_degc: TemperatureFn,
 ) -> Result<(SensorChannel, Option<crate::sensor::chain::ClipCounter>)> {
     let solver_rate_hz = 1e9 / resolved.dt_ns as f64;
     let seed = resolved.scenario.seed;
@@ -93,7 +100,7 @@ pub(super) fn sensor_channel(
         &format!("sensors.{index}"),
     )?;
     let mut clipped = None;
-    if let Some(chain) = chain_stages(resolved, sensor)? {
+    if let Some(chain) = chain_stages_at(resolved, sensor, temperature_degc)? {
         for stage in chain.stages {
             channel.add_stage(stage);
         }

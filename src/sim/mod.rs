@@ -4,6 +4,7 @@
 //! record waits in a small merge buffer until no earlier record can still appear: memory
 //! is bounded by that latency, not by the run length.
 
+mod condition;
 mod daq;
 pub mod record;
 mod tap;
@@ -23,9 +24,11 @@ use crate::solver::{
     CoupledSolver, CoupledVehicle, NewmarkCoefficients, RoadSurface, SolveMode, Storage,
 };
 
+pub use condition::{condition_start, ConditionStart};
+use condition::{Condition, SensorTemperature};
 pub use daq::chain_stages;
 pub use record::{
-    AxleState, EventLevel, Record, Recorder, VecRecorder, VehicleRecord, WimRecordData,
+    AxleState, EventLevel, ModalRecord, Record, Recorder, VecRecorder, VehicleRecord, WimRecordData,
 };
 pub use tap::{Quantities, SensorTap};
 use tracking::Tracker;
@@ -55,12 +58,31 @@ pub struct RunSummary {
     pub stopped_at_s: Option<f64>,
     /// Largest midspan deflection, either sign, at the solver rate (m).
     pub peak_midspan_deflection_m: f64,
+    /// Times the bridge model was rebuilt for temperature or damage.
+    pub model_rebuilds: u64,
+    /// Natural frequencies of the model at the end of the run (Hz), lowest first.
+    pub final_frequencies_hz: Vec<f64>,
+}
+
+/// Where a run is, for a progress display.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RunProgress {
+    pub step: u64,
+    pub steps: u64,
+    /// Simulated time reached (s).
+    pub time_s: f64,
+    /// Vehicles admitted and not yet dropped (on the approach, the bridge or the exit).
+    pub vehicles_on_road: usize,
+    /// Vehicles that have crossed and been dropped.
+    pub vehicles_passed: u64,
+    /// Bridge model rebuilds for temperature or damage so far.
+    pub model_rebuilds: u64,
 }
 
 /// How the caller follows and steers a run.
 pub struct Control<'a> {
-    /// Called every few thousand steps with (step, steps).
-    pub progress: &'a mut dyn FnMut(u64, u64),
+    /// Called every few thousand steps, and once at the end.
+    pub progress: &'a mut dyn FnMut(&RunProgress),
     /// Checked every step: when set, the run stops, writes what it has (an `/events`
     /// entry says where) and returns normally with `stopped_at_s`.
     pub stop: Option<&'a AtomicBool>,
@@ -68,14 +90,22 @@ pub struct Control<'a> {
 
 /// Everything built before the time loop.
 pub struct Prepared {
+    /// The bridge at t = 0 (in its condition then, with `[environment]` or `[[damage]]`).
     pub model: BridgeModel,
     pub road: RoadProfile,
+    /// Temperature and damage: `None` when the scenario has neither.
+    pub condition: Option<ConditionStart>,
 }
 
 /// Builds the bridge model and the road of a resolved scenario.
 pub fn prepare(resolved: &Resolved) -> Result<Prepared> {
     let s = &resolved.scenario;
-    let model = BridgeModel::build(&s.bridge.beam(), &s.bridge.model, s.bridge.damping_ratio)?;
+    let condition = condition_start(resolved)?;
+    let beam = match &condition {
+        Some(c) => c.state.beam_at(&s.bridge.beam()),
+        None => s.bridge.beam(),
+    };
+    let model = BridgeModel::build(&beam, &s.bridge.model, s.bridge.damping_ratio)?;
     let wheelbase = resolved
         .vehicles
         .iter()
@@ -101,7 +131,11 @@ pub fn prepare(resolved: &Resolved) -> Result<Prepared> {
     let x_end = s.bridge.span_m + right_m + wheelbase + 5.0;
     let mut rng = child_rng(s.seed, "road");
     let road = RoadProfile::build(&s.road.profile, x_start, x_end, &mut rng)?;
-    Ok(Prepared { model, road })
+    Ok(Prepared {
+        model,
+        road,
+        condition,
+    })
 }
 
 /// The response quantities at a point from the bridge state, output signs.
@@ -138,8 +172,9 @@ pub fn run(
     recorder: &mut dyn Recorder,
     progress: &mut dyn FnMut(u64, u64),
 ) -> Result<RunSummary> {
+    let mut report = |p: &RunProgress| progress(p.step, p.steps);
     let mut control = Control {
-        progress,
+        progress: &mut report,
         stop: None,
     };
     run_controlled(resolved, prepared, recorder, &mut control)
@@ -176,15 +211,29 @@ pub fn run_controlled(
                 .with_direction(v.direction),
         );
     }
+    let sensor_temperature = SensorTemperature::new(crate::environment::DEFAULT_AIR_C);
+    let mut condition = prepared.condition.as_ref().map(|start| {
+        Condition::new(
+            resolved,
+            start,
+            solve_mode(&s.bridge.model),
+            sensor_temperature.clone(),
+        )
+    });
+    if let Some(c) = condition.as_mut() {
+        c.announce_start(model);
+    }
     let mut taps = Vec::new();
-    let mut ops = Vec::new();
+    let mut ops = vec![(SparseVec::default(), SparseVec::default(), 0.0); resolved.sensors.len()];
+    sensor_operators(model, resolved, &mut ops);
     for (i, sensor) in resolved.sensors.iter().enumerate() {
         let measured_index = match sensor.spec.kind {
             SensorKind::Displacement => 0,
             SensorKind::Accelerometer => 2,
             SensorKind::Strain => 3,
         };
-        let (channel, clipped) = daq::sensor_channel(resolved, sensor, i)?;
+        let (channel, clipped) =
+            daq::sensor_channel(resolved, sensor, i, sensor_temperature.function())?;
         taps.push(
             SensorTap::new(
                 i,
@@ -194,37 +243,16 @@ pub fn run_controlled(
             )
             .with_clip_counter(clipped),
         );
-        let x = sensor.spec.position_m;
-        let mut d = SparseVec::with_capacity(model.n_dof());
-        let mut m = SparseVec::with_capacity(model.n_dof());
-        model.point_operator(x, PointQuantity::Deflection, &mut d);
-        model.point_operator(x, PointQuantity::Moment, &mut m);
-        // Bending strain at the gauge: eps = M c / EI(x) (sagging M stretches the bottom).
-        let strain_per_moment = 1e6 * sensor.gauge_depth_m / model.beam.ei_at_n_m2(x);
-        ops.push((d, m, strain_per_moment));
     }
     let max_latency_ns = taps.iter().map(|t| t.latency_ns()).max().unwrap_or(0) + resolved.dt_ns;
     let mut merger = Merger {
         truth: VecDeque::new(),
     };
     let mut tracker = Tracker::new(resolved, model.span_m())?;
-    let mut shape_ops: Vec<SparseVec> = model
-        .shape_positions_m()
-        .iter()
-        .map(|&x| {
-            let mut op = SparseVec::default();
-            model.point_operator(x, PointQuantity::Deflection, &mut op);
-            op
-        })
-        .collect();
-    shape_ops.shrink_to_fit();
-    let hint = divergence_hint(s);
+    let mut shape_ops = vec![SparseVec::default(); model.shape_positions_m().len()];
     let mut midspan = SparseVec::default();
-    model.point_operator(
-        0.5 * model.span_m(),
-        PointQuantity::Deflection,
-        &mut midspan,
-    );
+    deflection_operators(model, &mut shape_ops, &mut midspan);
+    let hint = divergence_hint(s);
     let mut peak_midspan_m = 0.0f64;
     let mut resyncs = daq::Resyncs::new(resolved)?;
     let mut ambient = match &s.ambient {
@@ -257,6 +285,14 @@ pub fn run_controlled(
             solver.advance()?;
         }
         let t_ns = step * resolved.dt_ns;
+        if let Some(c) = condition.as_mut() {
+            if c.advance(step, t_ns, &mut solver, &mut merger.truth)? {
+                // EI changed: the moment and strain operators (and, for lumped masses,
+                // the interpolated deflections) belong to the new model.
+                sensor_operators(&solver.model, resolved, &mut ops);
+                deflection_operators(&solver.model, &mut shape_ops, &mut midspan);
+            }
+        }
         resyncs.announce_until(t_ns, &mut merger.truth);
         check_finite(&solver, &shape_ops, step, (dt_s, &hint))?;
         peak_midspan_m = peak_midspan_m.max(midspan.dot(&solver.bridge.state.u).abs());
@@ -274,15 +310,26 @@ pub fn run_controlled(
                 .iter()
                 .map(|op| -op.dot(&solver.bridge.state.u))
                 .collect();
-            merger
-                .truth
-                .push_back(Record::BridgeShape { t_ns, deflection_m });
+            let (temperatures_c, modal) = match condition.as_mut() {
+                Some(c) => {
+                    let (temperatures, modal) = c.for_shape();
+                    (Some(temperatures), modal)
+                }
+                None => (None, None),
+            };
+            merger.truth.push_back(Record::BridgeShape {
+                t_ns,
+                deflection_m,
+                temperatures_c,
+                modal,
+            });
         }
         tracker.observe(&solver, step, &mut merger.truth);
         tracker.drop_departed(&mut solver);
         merger.release(&mut taps, t_ns.saturating_sub(max_latency_ns), recorder)?;
         if step % 5000 == 0 {
-            (control.progress)(step, resolved.steps);
+            let rebuilds = condition.as_ref().map_or(0, |c| c.rebuilds);
+            (control.progress)(&run_progress(step, resolved, &solver, &tracker, rebuilds));
         }
     }
     for tap in &mut taps {
@@ -313,26 +360,66 @@ pub fn run_controlled(
     merger.release(&mut taps, u64::MAX, recorder)?;
     recorder.finish()?;
     let steps_done = stopped_at.unwrap_or(resolved.steps);
-    (control.progress)(steps_done, resolved.steps);
+    let rebuilds = condition.as_ref().map_or(0, |c| c.rebuilds);
+    (control.progress)(&run_progress(
+        steps_done, resolved, &solver, &tracker, rebuilds,
+    ));
 
-    let n_modes = model.omega_rad_s.len().min(10);
+    let (natural_frequencies_hz, damping_ratios) = model.modal_summary(10);
     Ok(RunSummary {
         steps: steps_done,
         duration_s: steps_done as f64 * dt_s,
-        natural_frequencies_hz: (1..=n_modes).map(|n| model.frequency_hz(n)).collect(),
-        damping_ratios: model
-            .omega_rad_s
-            .iter()
-            .take(n_modes)
-            .map(|&w| model.rayleigh.ratio_at(w))
-            .collect(),
+        natural_frequencies_hz,
+        damping_ratios,
         dlc: tracker.dlc_ratios(&solver),
         contact_loss_steps: tracker.contact_loss_steps(&solver),
         road_description: prepared.road.describe().to_string(),
         road_csv: prepared.road.to_csv(),
         stopped_at_s: stopped_at.map(|step| step as f64 * dt_s),
         peak_midspan_deflection_m: peak_midspan_m,
+        model_rebuilds: condition.map_or(0, |c| c.rebuilds),
+        final_frequencies_hz: solver.model.modal_summary(10).0,
     })
+}
+
+/// Each sensor's (deflection, moment, strain per moment) operators on `model`.
+fn sensor_operators(
+    model: &BridgeModel,
+    resolved: &Resolved,
+    ops: &mut [(SparseVec, SparseVec, f64)],
+) {
+    for (sensor, (d, m, strain_per_moment)) in resolved.sensors.iter().zip(ops) {
+        let x = sensor.spec.position_m;
+        model.point_operator(x, PointQuantity::Deflection, d);
+        model.point_operator(x, PointQuantity::Moment, m);
+        // Bending strain at the gauge: eps = M c / EI(x) (sagging M stretches the bottom).
+        *strain_per_moment = 1e6 * sensor.gauge_depth_m / model.beam.ei_at_n_m2(x);
+    }
+}
+
+/// The deflection operators at the shape nodes and at midspan on `model`.
+fn deflection_operators(model: &BridgeModel, shape_ops: &mut [SparseVec], midspan: &mut SparseVec) {
+    for (op, &x) in shape_ops.iter_mut().zip(model.shape_positions_m()) {
+        model.point_operator(x, PointQuantity::Deflection, op);
+    }
+    model.point_operator(0.5 * model.span_m(), PointQuantity::Deflection, midspan);
+}
+
+fn run_progress(
+    step: u64,
+    resolved: &Resolved,
+    solver: &CoupledSolver,
+    tracker: &Tracker,
+    model_rebuilds: u64,
+) -> RunProgress {
+    RunProgress {
+        step,
+        steps: resolved.steps,
+        time_s: (step * resolved.dt_ns) as f64 * 1e-9,
+        vehicles_on_road: solver.vehicles.len(),
+        vehicles_passed: tracker.departed(),
+        model_rebuilds,
+    }
 }
 
 /// What to try when a run diverges: the likeliest cause first.

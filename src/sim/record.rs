@@ -48,6 +48,18 @@ pub struct WimRecordData {
     pub measurement: crate::wim::WimMeasurement,
 }
 
+/// The modal state of the running bridge model and its stiffness condition.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ModalRecord {
+    /// Lowest modes first (at most 10).
+    pub natural_frequency_hz: Vec<f64>,
+    pub damping_ratio: Vec<f64>,
+    /// EI over the scenario's EI at the midpoint of each interval between the shape nodes.
+    pub stiffness_ratio: Vec<f64>,
+    /// Fraction of EI lost by each `[[damage]]` entry, scenario order.
+    pub damage_fraction: Vec<f64>,
+}
+
 /// A record with its time.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Record {
@@ -75,9 +87,13 @@ pub enum Record {
         t_ns: u64,
         axles: Vec<AxleState>,
     },
+    /// The deflected shape; with `[environment]` or `[[damage]]` also the (structure, air)
+    /// temperatures (degC), and after a model rebuild (and once a minute) the modal state.
     BridgeShape {
         t_ns: u64,
         deflection_m: Vec<f64>,
+        temperatures_c: Option<(f64, f64)>,
+        modal: Option<Box<ModalRecord>>,
     },
     Vehicle {
         t_ns: u64,

@@ -46,6 +46,8 @@ pub struct Tracker {
     departed_dlc: Vec<(u32, u32, f64, f64)>,
     dlc_vehicles: usize,
     departed_contact_loss_steps: u64,
+    /// Vehicles dropped after leaving (for the progress report).
+    departed: u64,
     /// Axle positions of the vehicle being observed (reused: no allocation per step).
     x_m: Vec<f64>,
 }
@@ -85,6 +87,7 @@ impl Tracker {
             departed_dlc: Vec::new(),
             dlc_vehicles: 0,
             departed_contact_loss_steps: 0,
+            departed: 0,
         })
     }
 
@@ -243,10 +246,16 @@ impl Tracker {
                 self.departed_contact_loss_steps += solver.vehicles[i].contact_loss_steps;
                 solver.vehicles.remove(i);
                 self.tracks.remove(i);
+                self.departed += 1;
             } else {
                 i += 1;
             }
         }
+    }
+
+    /// Vehicles that have crossed and been dropped so far.
+    pub fn departed(&self) -> u64 {
+        self.departed
     }
 
     /// Queues the records of vehicles that had not left the bridge when the run ended.

@@ -10,7 +10,7 @@ use super::tracking::Tracker;
 use crate::error::Result;
 use crate::scenario::Resolved;
 use crate::solver::{CoupledSolver, CoupledVehicle};
-use crate::traffic::{GeneratedVehicle, TrafficGenerator, TrafficRun};
+use crate::traffic::{variation_factors, GeneratedVehicle, TrafficGenerator, TrafficRun};
 use crate::vehicle::{vehicle_for_traffic, VehicleDynamics};
 
 /// Longest wheelbase the traffic classes reach (m): the road is synthesized this far
@@ -20,6 +20,8 @@ pub const MAX_WHEELBASE_M: f64 = 20.0;
 /// The traffic of a run (nothing without `[traffic]`).
 pub struct Arrivals {
     generator: Option<TrafficGenerator>,
+    /// `traffic.parameter_sd_rel`: the spread of each vehicle's springs and dampers.
+    parameter_sd_rel: f64,
     dt_s: f64,
     approach_m: f64,
     span_m: f64,
@@ -28,6 +30,7 @@ pub struct Arrivals {
 impl Arrivals {
     pub fn new(resolved: &Resolved) -> Result<Self> {
         let s = &resolved.scenario;
+        let parameter_sd_rel = s.traffic.as_ref().map_or(0.0, |t| t.parameter_sd_rel);
         let generator = match &s.traffic {
             Some(spec) => {
                 let run = TrafficRun {
@@ -42,6 +45,7 @@ impl Arrivals {
         };
         Ok(Arrivals {
             generator,
+            parameter_sd_rel,
             dt_s: resolved.dt_ns as f64 * 1e-9,
             approach_m: s.road.approach_m,
             span_m: s.bridge.span_m,
@@ -62,7 +66,7 @@ impl Arrivals {
         };
         let next = step + 1;
         while let Some(g) = generator.next_before(next as f64 * self.dt_s) {
-            let (dynamics, note) = dynamics_of(&g);
+            let (dynamics, note) = dynamics_of(&g, self.parameter_sd_rel);
             if let Some(text) = note {
                 events.push_back(Record::Event {
                     t_ns: (step as f64 * self.dt_s * 1e9).round() as u64,
@@ -88,7 +92,9 @@ impl Arrivals {
 /// The vehicle's dynamics: its class preset scaled to the draw. A draw the preset cannot
 /// carry on straight springs (rare extreme load shares) runs as moving forces with the
 /// drawn loads, and says so on `/events`.
-fn dynamics_of(g: &GeneratedVehicle) -> (VehicleDynamics, Option<String>) {
+/// Springs and dampers vary from vehicle to vehicle by `parameter_sd_rel`
+/// ([`VehicleDynamics::varied`]).
+fn dynamics_of(g: &GeneratedVehicle, parameter_sd_rel: f64) -> (VehicleDynamics, Option<String>) {
     let shares: Vec<f64> = g.axle_load_n.iter().map(|l| l / g.gross_weight_n).collect();
     let prefix = format!("traffic.vehicle.{}", g.id);
     match vehicle_for_traffic(
@@ -98,7 +104,10 @@ fn dynamics_of(g: &GeneratedVehicle) -> (VehicleDynamics, Option<String>) {
         &shares,
         &prefix,
     ) {
-        Ok(d) => (d, None),
+        Ok(d) => {
+            let factors = variation_factors(g.variation_seed, 2, parameter_sd_rel);
+            (d.varied(factors[0], factors[1]), None)
+        }
         Err(e) => {
             let mut offsets = vec![0.0];
             for s in &g.axle_spacing_m {

@@ -11,6 +11,7 @@
 //! positive downward; positions are measured along the bridge from the left support.
 
 mod blocks;
+mod parts;
 pub mod pipeline;
 mod recorder;
 mod run_file;

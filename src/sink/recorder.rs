@@ -156,12 +156,16 @@ impl<'a, W: Write + Seek> McapRecorder<'a, W> {
         self.flush_every = Some(interval);
     }
 
-    /// Writes the modal state at the start on `/truth/bridge`.
+    /// Writes the modal state at the start on `/truth/bridge`, with the (structure, air)
+    /// temperatures when the run has an environment (so that no message of a run with
+    /// temperatures reads 0 degC).
     pub fn write_modal_state(
         &mut self,
         frequencies_hz: &[f64],
         damping_ratios: &[f64],
+        temperatures_c: Option<(f64, f64)>,
     ) -> Result<()> {
+        let (temperature_c, air_temperature_c) = temperatures_c.unwrap_or_default();
         let time = self.start_time_ns;
         let msg = BridgeState {
             timestamp: Some(timestamp_from_ns(time)),
@@ -169,6 +173,8 @@ impl<'a, W: Write + Seek> McapRecorder<'a, W> {
             deflection_m: vec![0.0; self.node_position_m.len()],
             natural_frequency_hz: frequencies_hz.to_vec(),
             damping_ratio: damping_ratios.to_vec(),
+            temperature_c,
+            air_temperature_c,
             ..Default::default()
         };
         self.messages += 1;
@@ -413,16 +419,31 @@ impl<'a, W: Write + Seek> McapRecorder<'a, W> {
                 };
                 self.sink.write(self.axle_loads, time, &msg)
             }
-            Record::BridgeShape { deflection_m, .. } => {
+            Record::BridgeShape {
+                deflection_m,
+                temperatures_c,
+                modal,
+                ..
+            } => {
                 let mid = self.span_m / 2.0;
                 let midspan = interpolate(&self.node_position_m, &deflection_m, mid);
-                let msg = BridgeState {
+                let (temperature_c, air_temperature_c) = temperatures_c.unwrap_or_default();
+                let mut msg = BridgeState {
                     timestamp: ts,
                     node_position_m: self.node_position_m.clone(),
                     deflection_m,
                     midspan_deflection_m: midspan,
+                    temperature_c,
+                    air_temperature_c,
                     ..Default::default()
                 };
+                if let Some(modal) = modal {
+                    let modal = *modal;
+                    msg.natural_frequency_hz = modal.natural_frequency_hz;
+                    msg.damping_ratio = modal.damping_ratio;
+                    msg.stiffness_ratio = modal.stiffness_ratio;
+                    msg.damage_fraction = modal.damage_fraction;
+                }
                 self.sink.write(self.bridge, time, &msg)
             }
             Record::Vehicle { vehicle, .. } => {

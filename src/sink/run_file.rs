@@ -105,15 +105,12 @@ pub fn write_run<W: Write + Seek + Send>(
         start,
     )?;
     let mut recorder = McapRecorder::new(sink, resolved, model.shape_positions_m().to_vec())?;
-    let n = model.omega_rad_s.len().min(10);
-    let freqs: Vec<f64> = (1..=n).map(|k| model.frequency_hz(k)).collect();
-    let zetas: Vec<f64> = model
-        .omega_rad_s
-        .iter()
-        .take(n)
-        .map(|&w| model.rayleigh.ratio_at(w))
-        .collect();
-    recorder.write_modal_state(&freqs, &zetas)?;
+    let (freqs, zetas) = model.modal_summary(10);
+    let temperatures_c = prepared
+        .condition
+        .as_ref()
+        .map(|c| (c.state.temperature_structure_c, c.state.temperature_air_c));
+    recorder.write_modal_state(&freqs, &zetas, temperatures_c)?;
     recorder.flush_every(Duration::from_secs(2));
     let loop_start = Instant::now();
     let (summary, recorder) = match thread {
@@ -146,7 +143,7 @@ mod tests {
         let resolved = s.resolve().unwrap();
         let prepared = crate::sim::prepare(&resolved).unwrap();
         let mut sink = McapSink::in_memory(&SinkOptions::default()).unwrap();
-        let mut progress = |_, _| {};
+        let mut progress = |_: &crate::sim::RunProgress| {};
         let mut control = Control {
             progress: &mut progress,
             stop: None,

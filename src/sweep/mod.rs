@@ -144,7 +144,7 @@ fn run_one(run: &RunSpec, runs_dir: &Path, stop: &AtomicBool) -> Result<bool> {
         ..Default::default()
     };
     let mut sink = McapSink::create(&mcap, options)?;
-    let mut progress = |_, _| {};
+    let mut progress = |_: &crate::sim::RunProgress| {};
     let mut control = crate::sim::Control {
         progress: &mut progress,
         stop: Some(stop),

@@ -61,8 +61,9 @@ pub struct TrafficSpec {
     /// lane, at the follower's speed, s; default [`DEFAULT_MIN_GAP_S`].
     #[serde(default = "default_min_gap_s")]
     pub min_gap_s: f64,
-    /// Relative sd, in [0, 0.3], by which the integrator varies each vehicle's suspension
-    /// parameters (from the vehicle's `variation_seed`); default
+    /// Relative sd, in [0, 0.3], of the factors on each vehicle's springs (suspension
+    /// and tyres, one factor) and dampers (another), drawn from its `variation_seed`
+    /// (`VehicleDynamics::varied`; the static axle loads do not change); default
     /// [`DEFAULT_PARAMETER_SD_REL`].
     #[serde(default = "default_parameter_sd_rel")]
     pub parameter_sd_rel: f64,

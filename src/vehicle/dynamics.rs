@@ -69,6 +69,25 @@ impl VehicleDynamics {
         }
     }
 
+    /// This vehicle with every spring (suspension and tyres) times `stiffness_factor` and
+    /// every damper times `damping_factor`: one vehicle of a class differing from the
+    /// next. Scaling all springs alike keeps the static axle loads exactly (the static
+    /// deflections scale by 1 / factor, the forces do not change), so the drawn weights
+    /// and load shares stay the truth. The factors join the truth-record parameters.
+    pub fn varied(mut self, stiffness_factor: f64, damping_factor: f64) -> Self {
+        self.stiffness *= stiffness_factor;
+        self.damping *= damping_factor;
+        for axle in &mut self.axles {
+            axle.tyre_stiffness_n_m *= stiffness_factor;
+            axle.tyre_damping_n_s_m *= damping_factor;
+        }
+        self.parameters
+            .push(("variation_stiffness_factor".into(), stiffness_factor));
+        self.parameters
+            .push(("variation_damping_factor".into(), damping_factor));
+        self
+    }
+
     /// Number of vehicle DOFs.
     pub fn n_dof(&self) -> usize {
         self.mass.nrows()

@@ -161,7 +161,7 @@ impl WimStation {
             truth: AppliedErrors {
                 reference,
                 speed_rel,
-                gross_rel: gross_weight_n / reference_gross_n - 1.0,
+                gross_rel: relative_error(gross_weight_n, reference_gross_n),
                 axle_rel,
             },
         }
@@ -240,6 +240,18 @@ fn speed_error(sigma_rel: f64, rng: &mut ChaCha8Rng) -> f64 {
     sigma_rel * z
 }
 
+/// `measured / reference - 1`, and 0 when the reference is zero: a vehicle whose every
+/// tyre is off the road at the strip has a zero dynamic reference, and its measured loads,
+/// being the reference scaled, are zero too, so there is no error to report (0 / 0 would
+/// put a NaN in the truth stream).
+fn relative_error(measured: f64, reference: f64) -> f64 {
+    if reference == 0.0 {
+        0.0
+    } else {
+        measured / reference - 1.0
+    }
+}
+
 fn check_shape(passage: &WimPassage) {
     let n = passage.static_axle_load_n.len();
     assert!(n >= 1, "vehicle {} has no axle", passage.vehicle_id);
@@ -290,6 +302,19 @@ mod tests {
         assert!(m.flags.is_empty());
         assert_eq!(m.truth.gross_rel, 0.0);
         assert_eq!(m.truth.reference, LoadReference::Dynamic);
+    }
+
+    #[test]
+    fn a_vehicle_airborne_at_the_strip_has_no_gross_error() {
+        // Found by the property test: a light vehicle on a class D road can have every
+        // tyre off the road as it crosses the strip.
+        let station = WimStation::new(&WimModelSpec::Ideal, "m").unwrap();
+        let mut passage = truck(24.0, 100e3);
+        passage.dynamic_axle_load_n = vec![0.0, 0.0];
+        let m = station.measure(&passage, &mut ChaCha8Rng::seed_from_u64(3));
+        assert_eq!(m.gross_weight_n, 0.0);
+        assert_eq!(m.truth.gross_rel, 0.0);
+        assert_eq!(m.truth.axle_rel, vec![0.0, 0.0]);
     }
 
     #[test]
