@@ -486,6 +486,81 @@ fn traffic_vehicles_carry_exactly_the_drawn_axle_loads() {
     }
 }
 
+/// Damping ratio of each mode of the vehicle on a rigid road (suspension matrices plus
+/// each tyre's spring and damper on its axle), as (undamped frequency Hz, zeta), ordered
+/// by frequency: from the eigenvalues of the first-order system matrix (computed here,
+/// not by the library), zeta = -Re(lambda) / |lambda| for each complex pair. Overdamped
+/// modes (real eigenvalues) are left out.
+fn modal_damping_ratios(v: &VehicleDynamics) -> Vec<(f64, f64)> {
+    let n = v.n_dof();
+    let (mut k, mut c) = (v.stiffness.clone(), v.damping.clone());
+    for axle in &v.axles {
+        let d = axle.dof.expect("a dynamic axle");
+        k[(d, d)] += axle.tyre_stiffness_n_m;
+        c[(d, d)] += axle.tyre_damping_n_s_m;
+    }
+    let m_inv = v.mass.clone().try_inverse().expect("positive masses");
+    let mut a = DMatrix::zeros(2 * n, 2 * n);
+    a.view_mut((0, n), (n, n)).fill_with_identity();
+    a.view_mut((n, 0), (n, n)).copy_from(&(-&m_inv * k));
+    a.view_mut((n, n), (n, n)).copy_from(&(-&m_inv * c));
+    let mut modes: Vec<(f64, f64)> = a
+        .complex_eigenvalues()
+        .iter()
+        .filter(|l| l.im > 0.0)
+        .map(|l| (l.norm() / (2.0 * std::f64::consts::PI), -l.re / l.norm()))
+        .collect();
+    modes.sort_by(|x, y| x.0.total_cmp(&y.0));
+    modes
+}
+
+fn parameter(v: &VehicleDynamics, name: &str) -> f64 {
+    v.parameters
+        .iter()
+        .find(|(n, _)| n == name)
+        .unwrap_or_else(|| panic!("{} has no parameter {name}", v.name))
+        .1
+}
+
+#[test]
+fn an_empty_truck_keeps_its_dampers_and_its_axles_stay_damped() {
+    // Dampers are hardware: an empty truck has the same shock absorbers as a loaded one
+    // (classes.rs). Scaling them with the load-levelled springs, as an earlier version
+    // did, left a 6 t truck_2axle's front axle hop almost undamped (its suspension
+    // carries 2.7 kN of body over a 1 500 kg axle) and put dynamic tyre forces of 0.7 x
+    // static on a class A road. Check: a light and a heavy draw keep the preset's
+    // dampers exactly, and every axle-hop mode of the light draw keeps at least 60 % of
+    // the preset's smallest hop damping ratio (0.187): with scaled dampers the 6 t
+    // truck's front axle kept 0.033, now 0.196.
+    let t = 1_000.0 * GRAVITY_M_S2;
+    let preset = preset("truck_2axle");
+    let hop_zeta = |v: &VehicleDynamics| -> Vec<f64> {
+        let modes = modal_damping_ratios(v);
+        modes[modes.len() - v.axles.len()..]
+            .iter()
+            .map(|m| m.1)
+            .collect()
+    };
+    let preset_min = hop_zeta(&preset).into_iter().fold(f64::INFINITY, f64::min);
+    for gross_t in [6.0, 22.0] {
+        let v = vehicle_for_traffic("truck_2axle", gross_t * t, &[5.0], &[0.3, 0.7], "t").unwrap();
+        for j in 1..=2 {
+            for part in ["suspension", "tyre"] {
+                let name = format!("axle_{j}_{part}_damping_n_s_m");
+                assert_eq!(parameter(&v, &name), parameter(&preset, &name), "{name}");
+            }
+        }
+        let zeta = hop_zeta(&v);
+        println!("{gross_t} t: hop damping ratios {zeta:?}, preset's smallest {preset_min:.4}");
+        if gross_t < 10.0 {
+            assert!(
+                zeta.iter().all(|&z| z >= 0.6 * preset_min),
+                "{zeta:?} against {preset_min}"
+            );
+        }
+    }
+}
+
 #[test]
 fn traffic_articulated_bodies_balance_by_the_lever_rule() {
     // Rebuild the scaled tractor-trailer from its truth parameters and check each body's
