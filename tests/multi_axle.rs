@@ -486,26 +486,12 @@ fn traffic_vehicles_carry_exactly_the_drawn_axle_loads() {
     }
 }
 
-/// Damping ratio of each mode of the vehicle on a rigid road (suspension matrices plus
-/// each tyre's spring and damper on its axle), as (undamped frequency Hz, zeta), ordered
-/// by frequency: from the eigenvalues of the first-order system matrix (computed here,
-/// not by the library), zeta = -Re(lambda) / |lambda| for each complex pair. Overdamped
-/// modes (real eigenvalues) are left out.
+/// (undamped frequency Hz, damping ratio) of each underdamped mode of the vehicle on a
+/// rigid road, by frequency: zeta = -Re(lambda) / |lambda| of each complex pair.
 fn modal_damping_ratios(v: &VehicleDynamics) -> Vec<(f64, f64)> {
-    let n = v.n_dof();
-    let (mut k, mut c) = (v.stiffness.clone(), v.damping.clone());
-    for axle in &v.axles {
-        let d = axle.dof.expect("a dynamic axle");
-        k[(d, d)] += axle.tyre_stiffness_n_m;
-        c[(d, d)] += axle.tyre_damping_n_s_m;
-    }
-    let m_inv = v.mass.clone().try_inverse().expect("positive masses");
-    let mut a = DMatrix::zeros(2 * n, 2 * n);
-    a.view_mut((0, n), (n, n)).fill_with_identity();
-    a.view_mut((n, 0), (n, n)).copy_from(&(-&m_inv * k));
-    a.view_mut((n, n), (n, n)).copy_from(&(-&m_inv * c));
-    let mut modes: Vec<(f64, f64)> = a
-        .complex_eigenvalues()
+    let mut modes: Vec<(f64, f64)> = v
+        .rigid_road_eigenvalues()
+        .unwrap()
         .iter()
         .filter(|l| l.im > 0.0)
         .map(|l| (l.norm() / (2.0 * std::f64::consts::PI), -l.re / l.norm()))

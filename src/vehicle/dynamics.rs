@@ -3,7 +3,7 @@
 //! force, sprung mass, quarter car, half car, multi-axle truck, tractor + trailer) is one
 //! of these, so new vehicle types never touch the solver.
 
-use nalgebra::{DMatrix, DVector};
+use nalgebra::{Complex, DMatrix, DVector};
 
 use crate::error::{Error, Result};
 
@@ -123,6 +123,28 @@ impl VehicleDynamics {
             }
         }
         c
+    }
+
+    /// Eigenvalues (1/s) of the free vehicle on a rigid road, from its first-order system
+    /// matrix `[[0, I], [-M^-1 K, -M^-1 C]]` with the tyres attached: a complex pair per
+    /// underdamped mode, `-Re` its decay rate, `-Re / |lambda|` its damping ratio.
+    pub fn rigid_road_eigenvalues(&self) -> Result<DVector<Complex<f64>>> {
+        let n = self.n_dof();
+        let inverse_mass = self
+            .mass
+            .clone()
+            .try_inverse()
+            .ok_or_else(|| Error::Factorization {
+                what: format!("mass matrix of {}", self.name),
+                reason: "singular".into(),
+            })?;
+        let mut a = DMatrix::zeros(2 * n, 2 * n);
+        a.view_mut((0, n), (n, n)).fill_with_identity();
+        a.view_mut((n, 0), (n, n))
+            .copy_from(&(-&inverse_mass * self.stiffness_with_tyres()));
+        a.view_mut((n, n), (n, n))
+            .copy_from(&(-&inverse_mass * self.damping_with_tyres()));
+        Ok(a.complex_eigenvalues())
     }
 
     /// Static axle loads from gravity: solves the vehicle on rigid tyre supports under

@@ -8,7 +8,7 @@
 
 use std::f64::consts::PI;
 
-use nalgebra::{Complex, DMatrix, DVector, Matrix3, Vector3};
+use nalgebra::{Complex, DVector, Matrix3, Vector3};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
@@ -444,22 +444,8 @@ fn half_car_frf(
 
 /// Smallest decay rate |Re(lambda)| of the vehicle's free modes on a rigid road (1/s).
 fn slowest_decay_rate(vehicle: &VehicleDynamics) -> Result<f64> {
-    let n = vehicle.n_dof();
-    let inverse_mass = vehicle
-        .mass
-        .clone()
-        .try_inverse()
-        .ok_or_else(|| Error::Factorization {
-            what: format!("mass matrix of {}", vehicle.name),
-            reason: "singular".into(),
-        })?;
-    let mut a = DMatrix::zeros(2 * n, 2 * n);
-    a.view_mut((0, n), (n, n)).fill_with_identity();
-    a.view_mut((n, 0), (n, n))
-        .copy_from(&(-&inverse_mass * vehicle.stiffness_with_tyres()));
-    a.view_mut((n, n), (n, n))
-        .copy_from(&(-&inverse_mass * vehicle.damping_with_tyres()));
-    Ok(a.complex_eigenvalues()
+    Ok(vehicle
+        .rigid_road_eigenvalues()?
         .iter()
         .map(|l| -l.re)
         .fold(f64::INFINITY, f64::min))
