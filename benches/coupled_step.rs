@@ -13,7 +13,7 @@
 use std::cell::OnceCell;
 use std::time::Duration;
 
-use bridgetwin::bench::setup::{path_timer, truck, BenchPath};
+use bridgetwin::studies::bench::setup::{path_timer, truck, BenchPath};
 use criterion::{criterion_group, criterion_main, Criterion};
 
 /// Largest node count the direct method is benched at.

@@ -14,9 +14,9 @@
 
 use std::time::Duration;
 
-use bridgetwin::bench::{collect_records, default_scenario, physics_only, write_mcap};
+use bridgetwin::app::run::WriterThread;
 use bridgetwin::scenario::Layout;
-use bridgetwin::sink::WriterThread;
+use bridgetwin::studies::bench::{collect_records, default_scenario, physics_only, write_mcap};
 use criterion::{criterion_group, criterion_main, Criterion};
 
 fn bench(c: &mut Criterion) {

@@ -5,8 +5,10 @@
 
 use std::time::Duration;
 
-use bridgetwin::bridge::{BeamProperties, BridgeModel, LumpedStiffness, ModelSpec};
-use bridgetwin::solver::{Newmark, NewmarkCoefficients, NewmarkParams, SolveMode, Storage};
+use bridgetwin::physics::bridge::{BeamProperties, BridgeModel, LumpedStiffness, ModelSpec};
+use bridgetwin::physics::solver::{
+    Newmark, NewmarkCoefficients, NewmarkParams, SolveMode, Storage,
+};
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use nalgebra::DVector;
 

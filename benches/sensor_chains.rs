@@ -6,9 +6,9 @@
 
 use std::time::Duration;
 
-use bridgetwin::bench::chains::scenario;
-use bridgetwin::bench::write_mcap;
-use bridgetwin::sink::WriterThread;
+use bridgetwin::app::run::WriterThread;
+use bridgetwin::studies::bench::chains::scenario;
+use bridgetwin::studies::bench::write_mcap;
 use criterion::{criterion_group, criterion_main, Criterion};
 
 fn bench(c: &mut Criterion) {

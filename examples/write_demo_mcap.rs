@@ -12,8 +12,8 @@ use std::f64::consts::PI;
 use std::path::PathBuf;
 
 use anyhow::{bail, Context, Result};
-use bridgetwin::sink::proto::{foxglove, v1};
-use bridgetwin::sink::{metadata, timestamp_from_ns, ChannelId, McapSink, SinkOptions, Topics};
+use bridgetwin::output::proto::{foxglove, v1};
+use bridgetwin::output::{metadata, timestamp_from_ns, ChannelId, McapSink, SinkOptions, Topics};
 
 /// 2026-01-01T00:00:00Z, the default scenario start.
 const START_NS: u64 = 1_767_225_600_000_000_000;

@@ -22,10 +22,12 @@ use nalgebra::DVector;
 use rustfft::num_complex::Complex;
 use rustfft::FftPlanner;
 
-use bridgetwin::bridge::{BeamProperties, BridgeModel, ModelSpec, PointQuantity, SparseVec};
-use bridgetwin::excitation::{AmbientField, AmbientSpec, AMBIENT_STREAM};
-use bridgetwin::sensor::child_rng;
-use bridgetwin::solver::{
+use bridgetwin::base::random::child_rng;
+use bridgetwin::physics::bridge::{
+    BeamProperties, BridgeModel, ModelSpec, PointQuantity, SparseVec,
+};
+use bridgetwin::physics::excitation::{AmbientField, AmbientSpec, AMBIENT_STREAM};
+use bridgetwin::physics::solver::{
     ContactLaw, CoupledSolver, LevelRoad, NewmarkCoefficients, NewmarkParams, SolveMode, Storage,
 };
 

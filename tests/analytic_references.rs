@@ -1,10 +1,10 @@
-//! The analytical references of `bridgetwin::analytic` checked against published numbers
+//! The analytical references of `bridgetwin::studies::analytic` checked against published numbers
 //! (PHYSICS.md sections 5 and 6), textbook closed forms, and each other.
 //!
 //! Sign convention of the module: beam deflection, vehicle displacement and forces are
 //! positive DOWNWARD; road elevation positive UPWARD.
 
-use bridgetwin::analytic::{
+use bridgetwin::studies::analytic::{
     harmonic_response, DampedOscillator, ModalDamping, MovingForceSolution, RoadIrregularity,
     SimplySupportedBeam, SprungMassOptions, SprungMassProblem, SprungMassSolution,
     SprungMassVehicle,

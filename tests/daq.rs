@@ -1,11 +1,11 @@
 //! DAQ node clocks and labelled faults, checked against closed forms and long-run
 //! statistics. Every tolerance states the standard error (SE) it is a multiple of.
 
-use bridgetwin::daq::{
+use bridgetwin::base::random::child_rng;
+use bridgetwin::measurement::daq::{
     ClockSpec, DeadSpec, FaultInjector, FaultKind, FaultLabel, FaultSpec, LossSpec, NodeClock,
     OffsetStepSpec, OutageWindow, SpikeSpec, StuckSpec, OPEN_END_NS,
 };
-use bridgetwin::sensor::child_rng;
 use rand_chacha::ChaCha8Rng;
 
 const SEED: u64 = 20_260_101;

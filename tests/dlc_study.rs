@@ -1,8 +1,8 @@
 //! The DLC study (the paper's section 11): the quick run writes its files, the Chinese
 //! code formula, and the physics the statistics must show.
 
-use bridgetwin::road::IsoClass;
-use bridgetwin::study::dlc::{china_jtg_d60_factor, run, run_case, DlcSetup, Surface};
+use bridgetwin::physics::road::IsoClass;
+use bridgetwin::studies::dlc::{china_jtg_d60_factor, run, run_case, DlcSetup, Surface};
 
 #[test]
 fn quick_study_runs_and_writes_its_files() {

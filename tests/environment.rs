@@ -5,8 +5,8 @@
 use std::f64::consts::{PI, TAU};
 use std::path::Path;
 
-use bridgetwin::bridge::{BeamProperties, BridgeModel, ModelSpec, StiffnessRegion};
-use bridgetwin::environment::{
+use bridgetwin::physics::bridge::{BeamProperties, BridgeModel, ModelSpec, StiffnessRegion};
+use bridgetwin::physics::environment::{
     damage_events, validate_damage, AirTemperature, DailySpec, DamageSpec, EnvironmentModel,
     EnvironmentSpec, Growth, OrnsteinUhlenbeck, RebuildPolicy, StiffnessState, TemperatureSpec,
     TemperatureStiffnessLaw, TemperatureTable, ThermalLag, DAY_S,

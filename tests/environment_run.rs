@@ -7,8 +7,8 @@
 
 use std::io::Write;
 
-use bridgetwin::bridge::{BeamProperties, BridgeModel, ModelSpec, StiffnessRegion};
-use bridgetwin::environment::TemperatureStiffnessLaw;
+use bridgetwin::physics::bridge::{BeamProperties, BridgeModel, ModelSpec, StiffnessRegion};
+use bridgetwin::physics::environment::TemperatureStiffnessLaw;
 use bridgetwin::scenario::Scenario;
 use bridgetwin::sim::{prepare, run, ModalRecord, Record, VecRecorder};
 

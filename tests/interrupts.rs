@@ -59,7 +59,7 @@ fn read_complete(path: &Path) -> (u64, String) {
         let message = message.unwrap();
         count += 1;
         if message.channel.topic == "/events" {
-            let log: bridgetwin::sink::proto::foxglove::Log =
+            let log: bridgetwin::output::proto::foxglove::Log =
                 prost::Message::decode(&*message.data).unwrap();
             last_event = log.message;
         }

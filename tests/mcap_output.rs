@@ -5,8 +5,8 @@
 use std::collections::BTreeMap;
 use std::io::{Seek, Write};
 
-use bridgetwin::sink::proto::{foxglove, v1};
-use bridgetwin::sink::{metadata, timestamp_from_ns, McapSink, SinkOptions, Topics};
+use bridgetwin::output::proto::{foxglove, v1};
+use bridgetwin::output::{metadata, timestamp_from_ns, McapSink, SinkOptions, Topics};
 use prost::Message;
 use prost_reflect::{DescriptorPool, DynamicMessage, Value};
 
@@ -598,7 +598,7 @@ fn a_full_disk_is_an_error_naming_the_output() {
     };
     let mut sink = McapSink::on_writer(disk, &SinkOptions::default(), "full.mcap").unwrap();
     let nodes = prepared.model.shape_positions_m().to_vec();
-    let mut recorder = bridgetwin::sink::McapRecorder::new(&mut sink, &resolved, nodes).unwrap();
+    let mut recorder = bridgetwin::output::McapRecorder::new(&mut sink, &resolved, nodes).unwrap();
     let err = bridgetwin::sim::run(&resolved, &prepared, &mut recorder, &mut |_, _| {})
         .expect_err("the disk fills up");
     let text = err.to_string();

@@ -59,7 +59,7 @@ fn sensor(id: &str, x: f64, extra: &str) -> String {
 /// One-sided Welch PSD (the library's: Hann, 50 % overlap) of `x` sampled at `fs_hz`:
 /// (frequencies, PSD).
 fn welch(x: &[f64], fs_hz: f64, segment: usize) -> (Vec<f64>, Vec<f64>) {
-    let psd = bridgetwin::road::welch_psd(x, 1.0 / fs_hz, segment).expect("welch");
+    let psd = bridgetwin::base::signal::welch_psd(x, 1.0 / fs_hz, segment).expect("welch");
     (psd.frequencies, psd.density)
 }
 

@@ -7,7 +7,7 @@
 
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
 
-use bridgetwin::vehicle::{
+use bridgetwin::physics::vehicle::{
     rigid_body_on_axles, vehicle_for_traffic, ArticulatedParams, ArticulatedSpec, HalfCarSpec,
     RigidTruckSpec, VehicleDynamics, VehicleModelSpec, GRAVITY_M_S2, RIGID_TRUCK_PRESETS,
     TRAFFIC_CLASSES,
@@ -336,7 +336,7 @@ fn rigid_matrices_by_hand(spec: &RigidTruckSpec) -> (DMatrix<f64>, DMatrix<f64>)
 }
 
 /// Sorted decoupled axle-hop estimates sqrt((k_s + k_t) / m) / 2 pi (body held still).
-fn decoupled_hop_hz(axles: &[bridgetwin::vehicle::AxleParams]) -> Vec<f64> {
+fn decoupled_hop_hz(axles: &[bridgetwin::physics::vehicle::AxleParams]) -> Vec<f64> {
     let mut f: Vec<f64> = axles
         .iter()
         .map(|a| {
@@ -563,13 +563,13 @@ fn traffic_articulated_bodies_balance_by_the_lever_rule() {
                 .map(|(_, x)| *x)
                 .unwrap()
         };
-        let body = |prefix: &str| bridgetwin::vehicle::BodyParams {
+        let body = |prefix: &str| bridgetwin::physics::vehicle::BodyParams {
             mass_kg: get(&format!("{prefix}_body_mass_kg")),
             pitch_inertia_kg_m2: get(&format!("{prefix}_pitch_inertia_kg_m2")),
             cg_behind_front_m: get(&format!("{prefix}_cg_behind_front_m")),
         };
         let axles = (1..=5)
-            .map(|i| bridgetwin::vehicle::AxleParams {
+            .map(|i| bridgetwin::physics::vehicle::AxleParams {
                 mass_kg: get(&format!("axle_{i}_mass_kg")),
                 suspension_stiffness_n_m: get(&format!("axle_{i}_suspension_stiffness_n_m")),
                 suspension_damping_n_s_m: get(&format!("axle_{i}_suspension_damping_n_s_m")),
@@ -800,7 +800,7 @@ fn bad_multi_axle_inputs_name_the_field() {
 #[test]
 fn varying_springs_and_dampers_keeps_the_static_axle_loads() {
     let (f, g) = (1.17, 0.86);
-    let scale = |axles: &mut [bridgetwin::vehicle::AxleParams]| {
+    let scale = |axles: &mut [bridgetwin::physics::vehicle::AxleParams]| {
         for a in axles {
             a.suspension_stiffness_n_m *= f;
             a.tyre_stiffness_n_m *= f;

@@ -14,14 +14,14 @@ use std::f64::consts::PI;
 use nalgebra::DMatrix;
 use proptest::prelude::*;
 
-use bridgetwin::bridge::{
+use bridgetwin::physics::bridge::{
     BeamProperties, BridgeModel, LumpedStiffness, ModelSpec, StiffnessRegion,
 };
-use bridgetwin::road::{IsoClass, RoadProfileSpec};
+use bridgetwin::physics::road::{IsoClass, RoadProfileSpec};
+use bridgetwin::physics::solver::ContactLaw;
+use bridgetwin::physics::vehicle::{HalfCarSpec, VehicleModelSpec};
 use bridgetwin::scenario::{Scenario, SensorKind, SensorSpec, VehicleEntry, DEFAULT_SCENARIO_TOML};
 use bridgetwin::sim::{prepare, run, Record, VecRecorder};
-use bridgetwin::solver::ContactLaw;
-use bridgetwin::vehicle::{HalfCarSpec, VehicleModelSpec};
 use bridgetwin::Error;
 
 /// `default_cases` cases, unless `PROPTEST_CASES` asks for another count (a longer hunt:

@@ -1,9 +1,9 @@
 //! Road profiles: ISO 8608 statistics against the closed forms of PHYSICS.md section 7,
 //! deterministic shapes, CSV input/output and configuration errors.
 
-use bridgetwin::road::{
-    iso8608_band_rms_m, iso8608_psd_m3, welch_psd, IsoClass, RoadFeature, RoadProfile,
-    RoadProfileSpec, WelchPsd,
+use bridgetwin::base::signal::{welch_psd, WelchPsd};
+use bridgetwin::physics::road::{
+    iso8608_band_rms_m, iso8608_psd_m3, IsoClass, RoadFeature, RoadProfile, RoadProfileSpec,
 };
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;

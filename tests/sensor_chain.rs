@@ -7,9 +7,10 @@
 
 use std::f64::consts::PI;
 
-use bridgetwin::sensor::{
-    child_rng, AntiAliasOptions, ChannelSample, ChannelSpec, Resampler, SensorChannel,
-    TruthInterpolator, WhiteNoise,
+use bridgetwin::base::random::child_rng;
+use bridgetwin::measurement::sensor::{
+    AntiAliasOptions, ChannelSample, ChannelSpec, Resampler, SensorChannel, TruthInterpolator,
+    WhiteNoise,
 };
 use rustfft::num_complex::Complex;
 use rustfft::FftPlanner;

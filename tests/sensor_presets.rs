@@ -6,11 +6,11 @@
 use std::f64::consts::PI;
 use std::sync::Arc;
 
-use bridgetwin::sensor::chain::{
+use bridgetwin::base::random::child_rng;
+use bridgetwin::measurement::sensor::chain::{
     resolve, ChainSpec, ChainStages, Coupling, Draw, ResolvedChain, SensorPreset, TemperatureFn,
     TransducerKind, STANDARD_GRAVITY_M_S2,
 };
-use bridgetwin::sensor::child_rng;
 use rand_chacha::ChaCha8Rng;
 use serde::Deserialize;
 
@@ -58,7 +58,7 @@ fn run(stages: &mut ChainStages, n: usize, fs_hz: f64, input: impl Fn(f64) -> f6
 /// removed, a white sequence of variance s^2 giving `2 s^2 / fs`): (frequency Hz,
 /// PSD unit^2/Hz) for bins 1 .. segment/2 - 1.
 fn welch(x: &[f64], fs_hz: f64, segment: usize) -> Vec<(f64, f64)> {
-    let psd = bridgetwin::road::welch_psd(x, 1.0 / fs_hz, segment).expect("welch");
+    let psd = bridgetwin::base::signal::welch_psd(x, 1.0 / fs_hz, segment).expect("welch");
     psd.frequencies.into_iter().zip(psd.density).collect()
 }
 

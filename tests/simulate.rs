@@ -103,7 +103,7 @@ fn sensor_kind_index(resolved: &bridgetwin::scenario::Resolved, i: usize) -> usi
 fn wim_loads_are_the_tyre_forces_at_the_strip() {
     // A moving force has no dynamics: the strip must read the static loads exactly.
     let mut s = quiet_default();
-    s.vehicles[0].model = bridgetwin::vehicle::VehicleModelSpec::MovingForce {
+    s.vehicles[0].model = bridgetwin::physics::vehicle::VehicleModelSpec::MovingForce {
         axle_loads_n: vec![60_000.0, 120_000.0],
         axle_spacing_m: vec![4.0],
     };

@@ -3,7 +3,7 @@
 
 use std::sync::OnceLock;
 
-use bridgetwin::study::solver_paths::{
+use bridgetwin::studies::solver_paths::{
     run, PathErrors, SolverPath, SolverPathsReport, MOMENT_TARGET,
 };
 

@@ -6,9 +6,9 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+use bridgetwin::output::proto::foxglove::Log;
+use bridgetwin::output::{timestamp_from_ns, McapSink, SinkOptions, Topics};
 use bridgetwin::scenario::Scenario;
-use bridgetwin::sink::proto::foxglove::Log;
-use bridgetwin::sink::{timestamp_from_ns, McapSink, SinkOptions, Topics};
 use mcap::records::Record;
 
 /// 2026-01-01T00:00:00Z, the default scenario start.
@@ -261,14 +261,14 @@ fn an_existing_later_part_needs_force_and_is_named() {
 
 /// A split file sink on `dir/log.mcap`, parts of 1 s from `START_NS`, end unknown, with
 /// one `/events` channel.
-fn log_sink(dir: &Path) -> (McapSink, bridgetwin::sink::ChannelId) {
+fn log_sink(dir: &Path) -> (McapSink, bridgetwin::output::ChannelId) {
     let options = SinkOptions {
         split_every_ns: Some(NS_PER_S),
         split_start_ns: START_NS,
         ..SinkOptions::default()
     };
     let mut sink = McapSink::create(&dir.join("log.mcap"), options).unwrap();
-    let run = bridgetwin::sink::metadata([("seed", "1")]);
+    let run = bridgetwin::output::metadata([("seed", "1")]);
     sink.write_metadata("bridgetwin", run).unwrap();
     sink.attach("note.txt", "text/plain", b"hello", START_NS)
         .unwrap();
@@ -278,7 +278,7 @@ fn log_sink(dir: &Path) -> (McapSink, bridgetwin::sink::ChannelId) {
     (sink, events)
 }
 
-fn log_at(sink: &mut McapSink, channel: bridgetwin::sink::ChannelId, t_ns: u64) {
+fn log_at(sink: &mut McapSink, channel: bridgetwin::output::ChannelId, t_ns: u64) {
     let msg = Log {
         timestamp: Some(timestamp_from_ns(t_ns)),
         message: format!("at {t_ns}"),

@@ -7,7 +7,7 @@
 
 use std::collections::BTreeMap;
 
-use bridgetwin::traffic::{
+use bridgetwin::physics::traffic::{
     variation_factors, ClassModel, GeneratedVehicle, TrafficGenerator, TrafficRun, TrafficSpec,
     VehicleClass, DEFAULT_HOURLY_PROFILE,
 };
@@ -116,7 +116,7 @@ fn reference_values_of_sensors_md_are_the_defaults() {
     assert_eq!(artic.spacing_mean_m, vec![3.24, 5.43, 1.20, 1.21]);
     let two = VehicleClass::Truck2Axle.default_model();
     assert_eq!((two.spacing_mean_m[0], two.spacing_sd_m[0]), (5.53, 0.51));
-    let shares = bridgetwin::traffic::default_class_shares();
+    let shares = bridgetwin::physics::traffic::default_class_shares();
     let trucks = 1.0 - shares["car"];
     assert!((shares["car"] - 0.8).abs() < 1e-12);
     for (name, split) in [
@@ -343,7 +343,7 @@ fn class_shares_stay_within_binomial_bounds() {
     for v in generator(&s, 17).take(n) {
         *counts.entry(v.class.name()).or_default() += 1.0;
     }
-    for (name, p) in bridgetwin::traffic::default_class_shares() {
+    for (name, p) in bridgetwin::physics::traffic::default_class_shares() {
         let expected = n as f64 * p;
         let sd = (n as f64 * p * (1.0 - p)).sqrt();
         let got = counts.get(name.as_str()).copied().unwrap_or(0.0);

@@ -1,6 +1,6 @@
 //! Every row of `bridgetwin verify` as a test: a failing row names itself.
 
-use bridgetwin::verify::{ladder, CheckRow};
+use bridgetwin::studies::verify::{ladder, CheckRow};
 
 fn assert_group(name: &str) {
     let group = ladder()

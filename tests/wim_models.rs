@@ -3,8 +3,8 @@
 //! patterns and FHWA classes of a realistic traffic mix, the strip-physics noise, flags and
 //! seeding. Run with `--nocapture` for the error table.
 
-use bridgetwin::sensor::child_rng;
-use bridgetwin::wim::{
+use bridgetwin::base::random::child_rng;
+use bridgetwin::measurement::wim::{
     axle_groups, AxleGroup, Cost323Class, Criterion, LoadReference, WimMeasurement, WimModelSpec,
     WimPassage, WimStation, GROUP_SPACING_MAX_M,
 };

@@ -17,7 +17,7 @@ pub struct BenchArgs {
 /// Runs the bench, progress on stderr, the table (or JSON) on stdout.
 pub fn run(args: &BenchArgs) -> Result<()> {
     let mut progress = |line: &str| eprintln!("  {line}");
-    let report = crate::bench::run(args.quick, &mut progress)?;
+    let report = crate::studies::bench::run(args.quick, &mut progress)?;
     if args.json {
         println!("{}", serde_json::to_string_pretty(&report)?);
     } else {

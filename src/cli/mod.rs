@@ -111,7 +111,7 @@ pub fn main() -> ExitCode {
         Command::Bench(args) => bench_cmd::run(&args).map(|()| true),
         Command::Study(args) => {
             let mut progress = |line: &str| eprintln!("  {line}");
-            crate::study::run_named(args.which_name(), &args.out, args.quick, &mut progress)
+            crate::studies::run_named(args.which_name(), &args.out, args.quick, &mut progress)
                 .map(|()| {
                     eprintln!("wrote {}", args.out.display());
                     true

@@ -5,8 +5,9 @@ use std::time::Instant;
 
 use anyhow::Result;
 
+use crate::app::run::{write_run, WriterThread, Written};
+use crate::output::{McapSink, SinkOptions};
 use crate::scenario::{Scenario, DEFAULT_SCENARIO_TOML};
-use crate::sink::{write_run, McapSink, SinkOptions, WriterThread, Written};
 
 /// Arguments of `simulate`.
 #[derive(Debug, clap::Args)]

@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use anyhow::{bail, Context, Result};
 
-use crate::sweep::{run_sweep, Plan, Shard};
+use crate::app::sweep::{run_sweep, Plan, Shard};
 
 /// Arguments of `sweep`.
 #[derive(Debug, clap::Args)]

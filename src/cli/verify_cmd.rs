@@ -3,7 +3,7 @@
 use anyhow::Result;
 
 use super::VerifyArgs;
-use crate::verify::{ladder, CheckRow};
+use crate::studies::verify::{ladder, CheckRow};
 
 /// Runs the ladder; Ok(false) when a check fails.
 pub fn run(args: &VerifyArgs) -> Result<bool> {

@@ -7,11 +7,11 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use crate::bridge::{BeamProperties, ModelSpec, StiffnessRegion};
 use crate::error::{Error, Result};
-use crate::road::RoadProfileSpec;
-use crate::solver::{ContactLaw, NewmarkParams};
-use crate::vehicle::VehicleModelSpec;
+use crate::physics::bridge::{BeamProperties, ModelSpec, StiffnessRegion};
+use crate::physics::road::RoadProfileSpec;
+use crate::physics::solver::{ContactLaw, NewmarkParams};
+use crate::physics::vehicle::VehicleModelSpec;
 
 pub use validate::{
     Resolved, ResolvedSensor, ResolvedVehicle, F1_RANGE_HZ, MAX_DURATION_S, MAX_ROAD_M, MAX_SPAN_M,
@@ -48,21 +48,21 @@ pub struct Scenario {
     /// Generated traffic (lanes, flows, class mix): vehicles arrive during the run, next to
     /// the `[[vehicles]]` listed; needs `duration_s`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub traffic: Option<crate::traffic::TrafficSpec>,
+    pub traffic: Option<crate::physics::traffic::TrafficSpec>,
     /// Band-limited random loads on the bridge (wind, micro-tremor), their level set by the
     /// RMS acceleration they cause; none by default.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub ambient: Option<crate::excitation::AmbientSpec>,
+    pub ambient: Option<crate::physics::excitation::AmbientSpec>,
     /// DAQ nodes whose clocks stamp their sensors' samples (`sensors.N.daq_node`).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub daq_nodes: Vec<crate::daq::DaqNodeSpec>,
+    pub daq_nodes: Vec<crate::measurement::daq::DaqNodeSpec>,
     /// Air temperature, its lag into the structure and E(T); with it the bridge model is
     /// rebuilt as the stiffness drifts. None by default: EI stays the scenario's.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub environment: Option<crate::environment::EnvironmentSpec>,
+    pub environment: Option<crate::physics::environment::EnvironmentSpec>,
     /// Damaged regions: EI loss with an onset time and a growth law.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub damage: Vec<crate::environment::DamageSpec>,
+    pub damage: Vec<crate::physics::environment::DamageSpec>,
     #[serde(default)]
     pub output: OutputSection,
 }
@@ -221,7 +221,7 @@ impl SensorKind {
     /// displacement (SENSORS.md sections 1-2).
     pub fn default_noise_density(self) -> f64 {
         match self {
-            SensorKind::Accelerometer => 22.5e-6 * crate::vehicle::GRAVITY_M_S2,
+            SensorKind::Accelerometer => 22.5e-6 * crate::base::units::GRAVITY_M_S2,
             SensorKind::Strain => 0.02,
             SensorKind::Displacement => 1e-6,
         }
@@ -259,17 +259,17 @@ pub struct SensorSpec {
     /// `force_balance`, `mems_consumer`, `strain_foil`); with neither `preset` nor `chain`
     /// the channel adds white noise only (`noise_density`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub preset: Option<crate::sensor::chain::SensorPreset>,
+    pub preset: Option<crate::measurement::sensor::chain::SensorPreset>,
     /// Overrides of the preset, field by field (`[sensors.chain]`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub chain: Option<crate::sensor::chain::ChainSpec>,
+    pub chain: Option<crate::measurement::sensor::chain::ChainSpec>,
     /// Id of the DAQ node (`[[daq_nodes]]`) whose clock samples and stamps this sensor;
     /// none: an ideal clock (stamps = true instants).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub daq_node: Option<String>,
     /// Faults of the measured stream, each labelled on `/truth/faults` and `/events`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub faults: Option<crate::daq::FaultSpec>,
+    pub faults: Option<crate::measurement::daq::FaultSpec>,
 }
 
 /// A weigh-in-motion strip on the road.
@@ -283,10 +283,10 @@ pub struct WimStationSpec {
     /// at the strip), `{ kind = "cost323", class = "B+(7)" }`, `{ kind = "physics",
     /// noise_rel = 0.02 }`.
     #[serde(default)]
-    pub model: crate::wim::WimModelSpec,
+    pub model: crate::measurement::wim::WimModelSpec,
     /// Thresholds of the off-scale and low-speed flags.
     #[serde(default)]
-    pub limits: crate::wim::WimLimits,
+    pub limits: crate::measurement::wim::WimLimits,
 }
 
 /// How messages are laid out.
@@ -403,7 +403,7 @@ impl Scenario {
         if let RoadProfileSpec::Csv { path } = &mut self.road.profile {
             join(path);
         }
-        if let Some(crate::environment::TemperatureSpec::Csv { path }) =
+        if let Some(crate::physics::environment::TemperatureSpec::Csv { path }) =
             self.environment.as_mut().map(|e| &mut e.temperature)
         {
             join(path);

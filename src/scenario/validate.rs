@@ -3,10 +3,11 @@
 use std::collections::BTreeSet;
 
 use super::{Scenario, SensorKind, SensorSpec};
-use crate::bridge::{BeamProperties, ModelSpec};
+use crate::base::random::child_rng;
 use crate::error::{num, require_non_negative, require_positive, Error, Result};
-use crate::sensor::{child_rng, AntiAliasOptions, ChannelSpec, SensorChannel, WhiteNoise};
-use crate::vehicle::VehicleDynamics;
+use crate::measurement::sensor::{AntiAliasOptions, ChannelSpec, SensorChannel, WhiteNoise};
+use crate::physics::bridge::{BeamProperties, ModelSpec};
+use crate::physics::vehicle::VehicleDynamics;
 
 /// Longest run: 30 days (s).
 pub const MAX_DURATION_S: f64 = 30.0 * 86_400.0;
@@ -60,7 +61,7 @@ pub struct ResolvedSensor {
     pub node: Option<usize>,
     /// The measurement chain when the sensor has a preset or chain table (its white noise
     /// then replaces the channel's plain `noise_density`).
-    pub chain: Option<crate::sensor::chain::ResolvedChain>,
+    pub chain: Option<crate::measurement::sensor::chain::ResolvedChain>,
 }
 
 impl ResolvedSensor {
@@ -275,7 +276,7 @@ impl Scenario {
             ));
         }
         let dt_ns = dt_ns as u64;
-        crate::solver::NewmarkCoefficients::new(dt_s, self.solver.newmark)?;
+        crate::physics::solver::NewmarkCoefficients::new(dt_s, self.solver.newmark)?;
         self.road.profile.validate("road.profile")?;
         require_positive("road.approach_m", self.road.approach_m)?;
         require_non_negative("road.exit_m", self.road.exit_m)?;
@@ -325,7 +326,7 @@ impl Scenario {
                     "is used twice",
                 ));
             }
-            crate::wim::WimStation::new(&w.model, &format!("wim_stations.{i}.model"))?
+            crate::measurement::wim::WimStation::new(&w.model, &format!("wim_stations.{i}.model"))?
                 .with_limits(w.limits, &format!("wim_stations.{i}.limits"))?;
             let p = w.position_m;
             if !(p.is_finite() && p > -self.road.approach_m && p < 0.0) {
@@ -512,7 +513,7 @@ impl Scenario {
         if let Some(environment) = &self.environment {
             environment.validate("environment")?;
         }
-        crate::environment::validate_damage(&self.damage, self.bridge.span_m)?;
+        crate::physics::environment::validate_damage(&self.damage, self.bridge.span_m)?;
         if !self.damage.is_empty() {
             if let ModelSpec::Modal { .. } = self.bridge.model {
                 // A local EI loss changes the mode shapes: the modal coordinates of the
@@ -741,8 +742,8 @@ impl Scenario {
 fn resolve_chain(
     s: &SensorSpec,
     path: &str,
-) -> Result<Option<crate::sensor::chain::ResolvedChain>> {
-    use crate::sensor::chain::{resolve, TransducerKind};
+) -> Result<Option<crate::measurement::sensor::chain::ResolvedChain>> {
+    use crate::measurement::sensor::chain::{resolve, TransducerKind};
     if s.preset.is_none() && s.chain.is_none() {
         return Ok(None);
     }
@@ -789,7 +790,7 @@ fn parse_start_time(text: &str) -> Result<u64> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bridge::ModelSpec;
+    use crate::physics::bridge::ModelSpec;
 
     fn error_of(edit: impl FnOnce(&mut Scenario)) -> String {
         let mut s = Scenario::default_scenario();

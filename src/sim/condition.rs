@@ -14,17 +14,17 @@
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
 
-use super::record::{EventLevel, ModalRecord, Record};
-use crate::bridge::{BeamProperties, BridgeModel};
-use crate::environment::{
+use crate::base::random::child_rng;
+use crate::error::Result;
+use crate::measurement::sensor::chain::TemperatureFn;
+use crate::physics::bridge::{BeamProperties, BridgeModel};
+use crate::physics::environment::{
     AirTemperature, ConditionEvent, EnvironmentModel, EnvironmentSpec, RebuildPolicy,
     StiffnessState, DAY_S,
 };
-use crate::error::Result;
+use crate::physics::solver::{CoupledSolver, SolveMode};
+use crate::record::{EventLevel, ModalRecord, Record};
 use crate::scenario::Resolved;
-use crate::sensor::chain::TemperatureFn;
-use crate::sensor::child_rng;
-use crate::solver::{CoupledSolver, SolveMode};
 
 /// Simulated time between evaluations of the condition (s).
 const UPDATE_INTERVAL_S: f64 = 1.0;

@@ -7,14 +7,15 @@ use std::collections::VecDeque;
 
 use rand_chacha::ChaCha8Rng;
 
-use super::record::{EventLevel, Record};
-use crate::daq::{ClockError, FaultInjector, NodeClock};
+use crate::base::random::child_rng;
 use crate::error::Result;
-use crate::scenario::{Resolved, ResolvedSensor};
-use crate::sensor::chain::{ChainStages, TemperatureFn};
-use crate::sensor::{
-    child_rng, AntiAliasOptions, ChannelSpec, InstantSource, SensorChannel, WhiteNoise,
+use crate::measurement::daq::{ClockError, FaultInjector, NodeClock};
+use crate::measurement::sensor::chain::{ChainStages, TemperatureFn};
+use crate::measurement::sensor::{
+    AntiAliasOptions, ChannelSpec, InstantSource, SensorChannel, WhiteNoise,
 };
+use crate::record::{EventLevel, Record};
+use crate::scenario::{Resolved, ResolvedSensor};
 
 impl InstantSource for NodeClock {
     fn next_instant(&mut self) -> (f64, i64) {
@@ -49,7 +50,8 @@ fn anti_alias_gain(rate_hz: f64, f_hz: f64) -> f64 {
 /// streams, so the recorder can describe the chain the run uses. The DC bias drift reads
 /// the reference temperature here (the realised bias is the value at it).
 pub fn chain_stages(resolved: &Resolved, sensor: &ResolvedSensor) -> Result<Option<ChainStages>> {
-    let reference: TemperatureFn = std::sync::Arc::new(|_| crate::environment::DEFAULT_AIR_C);
+    let reference: TemperatureFn =
+        std::sync::Arc::new(|_| crate::physics::environment::DEFAULT_AIR_C);
     chain_stages_at(resolved, sensor, reference)
 }
 
@@ -83,7 +85,10 @@ pub(super) fn sensor_channel(
     sensor: &ResolvedSensor,
     index: usize,
     temperature_degc: TemperatureFn,
-) -> Result<(SensorChannel, Option<crate::sensor::chain::ClipCounter>)> {
+) -> Result<(
+    SensorChannel,
+    Option<crate::measurement::sensor::chain::ClipCounter>,
+)> {
     let solver_rate_hz = 1e9 / resolved.dt_ns as f64;
     let seed = resolved.scenario.seed;
     let spec = ChannelSpec {

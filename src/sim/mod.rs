@@ -6,7 +6,6 @@
 
 mod condition;
 mod daq;
-pub mod record;
 mod tap;
 mod tracking;
 mod traffic;
@@ -14,23 +13,24 @@ mod traffic;
 use std::collections::VecDeque;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use crate::bridge::{BridgeModel, ModelSpec, PointQuantity, SparseVec};
+use crate::base::random::child_rng;
 use crate::error::{Error, Result};
-use crate::excitation::{AmbientField, AMBIENT_STREAM};
-use crate::road::RoadProfile;
-use crate::scenario::{Resolved, SensorKind};
-use crate::sensor::child_rng;
-use crate::solver::{
+use crate::physics::bridge::{BridgeModel, ModelSpec, PointQuantity, SparseVec};
+use crate::physics::excitation::{AmbientField, AMBIENT_STREAM};
+use crate::physics::road::RoadProfile;
+use crate::physics::solver::{
     CoupledSolver, CoupledVehicle, NewmarkCoefficients, RoadSurface, SolveMode, Storage,
 };
+use crate::scenario::{Resolved, SensorKind};
 
+pub use crate::record::Quantities;
+pub use crate::record::{
+    AxleState, EventLevel, ModalRecord, Record, Recorder, VecRecorder, VehicleRecord, WimRecordData,
+};
 pub use condition::{condition_start, ConditionStart};
 use condition::{Condition, SensorTemperature};
 pub use daq::chain_stages;
-pub use record::{
-    AxleState, EventLevel, ModalRecord, Record, Recorder, VecRecorder, VehicleRecord, WimRecordData,
-};
-pub use tap::{Quantities, SensorTap};
+pub use tap::SensorTap;
 use tracking::Tracker;
 
 impl RoadSurface for RoadProfile {
@@ -211,7 +211,7 @@ pub fn run_controlled(
                 .with_direction(v.direction),
         );
     }
-    let sensor_temperature = SensorTemperature::new(crate::environment::DEFAULT_AIR_C);
+    let sensor_temperature = SensorTemperature::new(crate::physics::environment::DEFAULT_AIR_C);
     let mut condition = prepared.condition.as_ref().map(|start| {
         Condition::new(
             resolved,

@@ -6,19 +6,15 @@
 //! five quantities in a ring as long as the channel's filter window, and when the channel
 //! hands over a sample at position `n0 + frac` (solver samples; with a node clock, the
 //! node's true sampling instant), it interpolates each quantity there (cubic Hermite,
-//! [`crate::sensor::hermite`]). Work per solver step is five stores; the interpolation runs
+//! [`crate::measurement::sensor::hermite`]). Work per solver step is five stores; the interpolation runs
 //! at the sensor rate.
 
 use std::collections::VecDeque;
 
-use super::record::Record;
-use crate::daq::{FaultInjector, FaultKind, FaultLabel, OPEN_END_NS};
-use crate::sensor::chain::ClipCounter;
-use crate::sensor::{hermite, SensorChannel, HERMITE_LOOKAHEAD, HERMITE_LOOKBACK};
-
-/// Response quantities at a point, output sign convention (downward positive).
-/// Order: displacement (m), velocity (m/s), acceleration (m/s^2), strain (microstrain), moment (N m).
-pub type Quantities = [f64; 5];
+use crate::measurement::daq::{FaultInjector, FaultKind, FaultLabel, OPEN_END_NS};
+use crate::measurement::sensor::chain::ClipCounter;
+use crate::measurement::sensor::{hermite, SensorChannel, HERMITE_LOOKAHEAD, HERMITE_LOOKBACK};
+use crate::record::{Quantities, Record};
 
 /// The record of a fault label found at the sample at `sample_ns`.
 fn fault_record(sensor: usize, label: &FaultLabel, sample_ns: u64) -> Record {
@@ -33,7 +29,11 @@ fn fault_record(sensor: usize, label: &FaultLabel, sample_ns: u64) -> Record {
 
 /// A sample as the channel hands it over, with the truth of every quantity interpolated
 /// at its instant.
-fn sample_record(sensor: usize, history: &History, s: crate::sensor::ChannelSample) -> Record {
+fn sample_record(
+    sensor: usize,
+    history: &History,
+    s: crate::measurement::sensor::ChannelSample,
+) -> Record {
     Record::Sensor {
         sensor,
         t_ns: s.t_ns,
@@ -175,7 +175,10 @@ impl SensorTap {
     /// history, then passes them through the faults.
     fn hand_over(
         &mut self,
-        drive: impl FnOnce(&mut SensorChannel, &mut dyn FnMut(crate::sensor::ChannelSample)) -> usize,
+        drive: impl FnOnce(
+            &mut SensorChannel,
+            &mut dyn FnMut(crate::measurement::sensor::ChannelSample),
+        ) -> usize,
     ) {
         let Self {
             sensor,

@@ -5,12 +5,12 @@ use std::collections::VecDeque;
 
 use rand_chacha::ChaCha8Rng;
 
-use super::record::{AxleState, EventLevel, Record, VehicleRecord, WimRecordData};
+use crate::base::random::child_rng;
 use crate::error::Result;
+use crate::measurement::wim::{WimPassage, WimStation};
+use crate::physics::solver::CoupledSolver;
+use crate::record::{AxleState, EventLevel, Record, VehicleRecord, WimRecordData};
 use crate::scenario::Resolved;
-use crate::sensor::child_rng;
-use crate::solver::CoupledSolver;
-use crate::wim::{WimPassage, WimStation};
 
 /// Another vehicle with an axle this close to a WIM strip when a vehicle's last axle
 /// crosses it makes the record a multiple presence (m): the strip's loop detectors and
@@ -158,7 +158,7 @@ impl Tracker {
                 }
                 if !track.wim_done[s] && track.wim[s].iter().all(Option::is_some) {
                     track.wim_done[s] = true;
-                    let near = |o: &crate::solver::CoupledVehicle| {
+                    let near = |o: &crate::physics::solver::CoupledVehicle| {
                         o.id != v.id
                             && o.is_active()
                             && (0..o.dynamics.axles.len()).any(|j| {
@@ -299,7 +299,10 @@ impl Tracker {
 pub const MAX_DLC_VEHICLES: usize = 1000;
 
 /// The DLC rows of one vehicle's axles.
-fn dlc_rows(v: &crate::solver::CoupledVehicle, track: &VehicleTrack) -> Vec<(u32, u32, f64, f64)> {
+fn dlc_rows(
+    v: &crate::physics::solver::CoupledVehicle,
+    track: &VehicleTrack,
+) -> Vec<(u32, u32, f64, f64)> {
     v.dynamics
         .axles
         .iter()
@@ -340,7 +343,7 @@ fn event(t_ns: u64, level: EventLevel, text: String) -> Record {
     Record::Event { t_ns, level, text }
 }
 
-fn spacings(v: &crate::solver::CoupledVehicle) -> Vec<f64> {
+fn spacings(v: &crate::physics::solver::CoupledVehicle) -> Vec<f64> {
     v.dynamics
         .axles
         .windows(2)
@@ -351,7 +354,7 @@ fn spacings(v: &crate::solver::CoupledVehicle) -> Vec<f64> {
 /// What the strip of station `station` saw of vehicle `v`.
 fn wim_passage(
     station: usize,
-    v: &crate::solver::CoupledVehicle,
+    v: &crate::physics::solver::CoupledVehicle,
     track: &VehicleTrack,
     multiple_presence: bool,
 ) -> WimPassage {
@@ -371,7 +374,10 @@ fn wim_passage(
     }
 }
 
-fn vehicle_record(v: &crate::solver::CoupledVehicle, track: &VehicleTrack) -> VehicleRecord {
+fn vehicle_record(
+    v: &crate::physics::solver::CoupledVehicle,
+    track: &VehicleTrack,
+) -> VehicleRecord {
     VehicleRecord {
         vehicle_id: v.id,
         model: v.dynamics.name.clone(),

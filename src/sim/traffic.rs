@@ -5,13 +5,13 @@
 
 use std::collections::VecDeque;
 
-use super::record::{EventLevel, Record};
 use super::tracking::Tracker;
 use crate::error::Result;
+use crate::physics::solver::{CoupledSolver, CoupledVehicle};
+use crate::physics::traffic::{variation_factors, GeneratedVehicle, TrafficGenerator, TrafficRun};
+use crate::physics::vehicle::{vehicle_for_traffic, VehicleDynamics};
+use crate::record::{EventLevel, Record};
 use crate::scenario::Resolved;
-use crate::solver::{CoupledSolver, CoupledVehicle};
-use crate::traffic::{variation_factors, GeneratedVehicle, TrafficGenerator, TrafficRun};
-use crate::vehicle::{vehicle_for_traffic, VehicleDynamics};
 
 /// Longest wheelbase the traffic classes reach (m): the road is synthesized this far
 /// beyond its ends so every axle of every vehicle has a surface under it.

@@ -6,7 +6,7 @@ use std::collections::BTreeMap;
 
 use prost::Message as _;
 
-use crate::sink::proto::v1::{AxleLoads, BridgeState, SampleBlock, SensorTruthBlock};
+use crate::output::proto::v1::{AxleLoads, BridgeState, SampleBlock, SensorTruthBlock};
 
 /// Schema names (fully qualified protobuf message names) the report decodes.
 pub(super) const AXLE_LOADS: &str = "bridgetwin.v1.AxleLoads";

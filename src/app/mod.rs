@@ -1,0 +1,5 @@
+//! The application layer: drives runs. A resolved scenario goes through the time loop
+//! (`sim`) into an output (`output`, or any other `Recorder`); sweeps run many.
+
+pub mod run;
+pub mod sweep;

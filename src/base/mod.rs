@@ -1,0 +1,6 @@
+//! The bottom layer: small pieces every other layer may use and which use nothing of the
+//! crate but its error type: named random streams, signal estimates, physical constants.
+
+pub mod random;
+pub mod signal;
+pub mod units;

@@ -1,0 +1,20 @@
+//! Road profiles: ISO 8608 random roughness, deterministic shapes (step, ramp, bump),
+//! measured profiles from CSV, and the optional tyre-patch filter.
+//!
+//! [`RoadProfileSpec`] is the scenario's configuration; [`RoadProfile::build`] turns it into
+//! a profile over the road range the simulation visits (approach, bridge and exit in one
+//! continuous profile), evaluated in O(1) by [`RoadProfile::elevation_m`] and
+//! [`RoadProfile::slope`]. The synthesis and its verification follow PHYSICS.md section 7.
+
+mod csv;
+mod curve;
+mod iso8608;
+mod profile;
+mod spec;
+
+pub use profile::RoadProfile;
+pub use spec::{
+    iso8608_band_rms_m, iso8608_psd_m3, IsoClass, RoadFeature, RoadProfileSpec,
+    DEFAULT_N1_CYCLES_M, DEFAULT_N2_CYCLES_M, DEFAULT_SAMPLE_SPACING_M, N0_CYCLES_M,
+    TYRE_PATCH_LENGTH_M,
+};

@@ -1,0 +1,620 @@
+//! The coupled vehicle-bridge step (PHYSICS.md section 9).
+//!
+//! The bridge's effective matrix is factorized once. Each step, every tyre contact on the
+//! span adds a rank-one coupling, which is eliminated through the contact forces: with
+//! `Z = K_eff^-1 H` (one solve per contact on the span) the unknown dynamic tyre forces
+//! solve a small dense system of the size of the number of axles, and bridge and vehicle
+//! displacements follow by superposition. Nothing of the size of the bridge is factorized
+//! in the time loop.
+//!
+//! Sign conventions: every displacement and force is upward positive; the vehicle DOFs are
+//! measured from static equilibrium on a level rigid road; the dynamic tyre force of axle
+//! j is `f_j = kt (z_j - y_j) + ct (dz_j/dt - dy_j/dt)` with the surface under the wheel
+//! `z_j = w(x_j) + r(x_j)` and `dz/dt = dw/dt + v (dw/dx + dr/dx)` (the convective term);
+//! the total tyre force is `F_static + f_j` (compression positive), and the bridge carries
+//! `-(F_static + f_j)` at x_j.
+
+use std::borrow::Cow;
+
+use nalgebra::{DMatrix, DVector};
+
+use super::linear::SmallLu;
+use super::newmark::{Newmark, NewmarkCoefficients, SolveMode, State};
+use crate::error::{Error, Result};
+use crate::physics::bridge::{BridgeModel, PointQuantity, SparseVec};
+use crate::physics::vehicle::VehicleDynamics;
+
+/// The road surface the tyres roll on (elevation upward positive, m).
+pub trait RoadSurface {
+    fn elevation_m(&self, x_m: f64) -> f64;
+    /// dr/dx (m/m).
+    fn slope(&self, x_m: f64) -> f64;
+}
+
+/// A level road.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct LevelRoad;
+
+impl RoadSurface for LevelRoad {
+    fn elevation_m(&self, _x_m: f64) -> f64 {
+        0.0
+    }
+    fn slope(&self, _x_m: f64) -> f64 {
+        0.0
+    }
+}
+
+/// Tyre-road contact law.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ContactLaw {
+    /// The tyre spring may pull (the paper's assumption); tension is counted as contact loss.
+    #[default]
+    Full,
+    /// A tyre in tension lifts off (zero force) until it touches the road again.
+    Unilateral,
+}
+
+/// A vehicle on the road, with its own Newmark state.
+pub struct CoupledVehicle {
+    pub id: u32,
+    pub dynamics: VehicleDynamics,
+    pub speed_m_s: f64,
+    /// +1 travelling towards +x (from the left support), -1 towards -x (the opposite
+    /// lane, entering at the right support); axles trail the front axle accordingly.
+    pub direction: f64,
+    /// Front-axle position when the vehicle appears (m).
+    pub start_front_x_m: f64,
+    /// Step index at which it appears.
+    pub entry_step: u64,
+    pub state: State,
+    /// Total tyre force of each axle at the last step (N, compression positive).
+    pub contact_force_n: Vec<f64>,
+    /// Whether each tyre touched the road at the last step.
+    pub in_contact: Vec<bool>,
+    /// Steps with at least one tyre in tension or lifted off.
+    pub contact_loss_steps: u64,
+    active: bool,
+    retired: bool,
+    /// `K_eff,v^-1` applied to the tyre DOFs: W = K_eff,v^-1 E (n_dof x axles).
+    w_tyres: DMatrix<f64>,
+    factor: Option<nalgebra::linalg::Cholesky<f64, nalgebra::Dyn>>,
+    y0: DVector<f64>,
+    scratch: DVector<f64>,
+    history: DVector<f64>,
+}
+
+impl CoupledVehicle {
+    /// A vehicle that appears at `entry_step` with its front axle at `start_front_x_m`.
+    pub fn new(
+        id: u32,
+        dynamics: VehicleDynamics,
+        speed_m_s: f64,
+        start_front_x_m: f64,
+        entry_step: u64,
+    ) -> Self {
+        let n = dynamics.n_dof();
+        let axles = dynamics.axles.len();
+        CoupledVehicle {
+            id,
+            speed_m_s,
+            direction: 1.0,
+            start_front_x_m,
+            entry_step,
+            state: State::zeros(n),
+            contact_force_n: dynamics.axles.iter().map(|a| a.static_load_n).collect(),
+            in_contact: vec![true; axles],
+            contact_loss_steps: 0,
+            active: false,
+            retired: false,
+            w_tyres: DMatrix::zeros(n, axles),
+            factor: None,
+            y0: DVector::zeros(n),
+            scratch: DVector::zeros(n),
+            history: DVector::zeros(n),
+            dynamics,
+        }
+    }
+
+    /// Position of axle `j` at step `step` (m).
+    pub fn axle_x_m(&self, j: usize, step: u64, dt_s: f64) -> f64 {
+        let travelled = self.speed_m_s * (step.saturating_sub(self.entry_step)) as f64 * dt_s;
+        self.start_front_x_m + self.direction * (travelled - self.dynamics.axles[j].offset_m)
+    }
+
+    /// The same vehicle travelling towards -x (`direction < 0`) or +x.
+    pub fn with_direction(mut self, direction: i8) -> Self {
+        self.direction = if direction < 0 { -1.0 } else { 1.0 };
+        self
+    }
+
+    /// Signed velocity along x (m/s): what the road slope under a tyre is multiplied by.
+    pub fn velocity_m_s(&self) -> f64 {
+        self.direction * self.speed_m_s
+    }
+
+    /// Whether every axle is more than `margin_m` beyond the end of a `span_m` bridge it
+    /// crosses in its direction at `step`.
+    pub fn has_left(&self, span_m: f64, margin_m: f64, step: u64, dt_s: f64) -> bool {
+        let last = self.dynamics.axles.len() - 1;
+        let x = self.axle_x_m(last, step, dt_s);
+        match self.direction > 0.0 {
+            true => x > span_m + margin_m,
+            false => x < -margin_m,
+        }
+    }
+
+    /// True once the vehicle has appeared and until it is retired.
+    pub fn is_active(&self) -> bool {
+        self.active
+    }
+
+    /// True once the vehicle has left the modelled road.
+    pub fn is_retired(&self) -> bool {
+        self.retired
+    }
+
+    fn activate(
+        &mut self,
+        road: &dyn RoadSurface,
+        step: u64,
+        coefficients: &NewmarkCoefficients,
+    ) -> Result<()> {
+        let dt = coefficients.dt_s;
+        let under: Vec<f64> = (0..self.dynamics.axles.len())
+            .map(|j| road.elevation_m(self.axle_x_m(j, step, dt)))
+            .collect();
+        self.state.u = self.dynamics.equilibrium_on_road(&under);
+        let n = self.dynamics.n_dof();
+        if n > 0 {
+            let k_eff = &self.dynamics.stiffness
+                + &self.dynamics.mass * coefficients.a0
+                + &self.dynamics.damping * coefficients.a1;
+            let chol = k_eff.cholesky().ok_or_else(|| Error::Factorization {
+                what: format!("effective matrix of vehicle {}", self.id),
+                reason: "not positive definite (check masses)".into(),
+            })?;
+            for (j, axle) in self.dynamics.axles.iter().enumerate() {
+                let mut col = DVector::zeros(n);
+                if let Some(d) = axle.dof {
+                    col[d] = 1.0;
+                    chol.solve_mut(&mut col);
+                }
+                self.w_tyres.set_column(j, &col);
+            }
+            self.factor = Some(chol);
+        }
+        self.active = true;
+        Ok(())
+    }
+}
+
+/// Per-contact data of one step.
+struct Contact {
+    vehicle: usize,
+    axle: usize,
+    x_m: f64,
+    on_span: bool,
+    h: SparseVec,
+    h_slope: SparseVec,
+    /// K_eff^-1 h (only for contacts on the span).
+    z: DVector<f64>,
+    /// alpha = (kt + a1 ct) h + ct v h'  (bridge side of the linearized tyre force).
+    kappa: f64,
+    c: f64,
+    rhs: f64,
+    active: bool,
+}
+
+/// The coupled system: one bridge and the vehicles on its road.
+pub struct CoupledSolver<'a> {
+    /// The bridge model: borrowed, or owned once [`CoupledSolver::replace_model`] has
+    /// swapped in a rebuilt one (temperature, damage).
+    pub model: Cow<'a, BridgeModel>,
+    pub bridge: Newmark,
+    pub vehicles: Vec<CoupledVehicle>,
+    pub contact_law: ContactLaw,
+    /// Extra load on the bridge at the next step (ambient excitation), reset by the caller.
+    pub external_load: DVector<f64>,
+    /// Index of the last completed step (time = step * dt).
+    pub step: u64,
+    /// A vehicle is retired once its last axle is this far past the bridge end (m).
+    pub retire_after_m: f64,
+    road: &'a dyn RoadSurface,
+    contacts: Vec<Contact>,
+    rhs: DVector<f64>,
+    beta_u: DVector<f64>,
+    lu: SmallLu,
+    forces: Vec<f64>,
+    entries: Vec<f64>,
+    /// Columns of `K_eff^-1` (see [`Newmark::inverse_columns`]): an influence vector
+    /// `Z = K_eff^-1 h` is then a few axpys over the entries of h instead of a solve.
+    inverse_columns: Option<Vec<DVector<f64>>>,
+}
+
+impl<'a> CoupledSolver<'a> {
+    /// Prepares the bridge integrator (one factorization) for the given step and mode.
+    pub fn new(
+        model: &'a BridgeModel,
+        road: &'a dyn RoadSurface,
+        coefficients: NewmarkCoefficients,
+        mode: SolveMode,
+        contact_law: ContactLaw,
+    ) -> Result<Self> {
+        let bridge = Newmark::new(
+            &model.mass,
+            &model.damping,
+            &model.stiffness,
+            coefficients,
+            mode,
+        )?;
+        let n = model.n_dof();
+        let inverse_columns = bridge.inverse_columns();
+        Ok(CoupledSolver {
+            inverse_columns,
+            model: Cow::Borrowed(model),
+            bridge,
+            vehicles: Vec::new(),
+            contact_law,
+            external_load: DVector::zeros(n),
+            step: 0,
+            retire_after_m: 50.0,
+            road,
+            contacts: Vec::new(),
+            rhs: DVector::zeros(n),
+            beta_u: DVector::zeros(n),
+            lu: SmallLu::with_capacity(8),
+            forces: Vec::new(),
+            entries: Vec::new(),
+        })
+    }
+
+    /// Replaces the bridge model by `model` (same DOF layout: a rebuild of the same mesh
+    /// with other stiffnesses) and refactorizes once, keeping the bridge's displacement,
+    /// velocity and acceleration. The acceleration is not re-equilibrated: the stiffness
+    /// changes by a fraction of a percent between rebuilds, and the next step's Newmark
+    /// update absorbs the mismatch.
+    pub fn replace_model(&mut self, model: BridgeModel, mode: SolveMode) -> Result<()> {
+        if model.n_dof() != self.model.n_dof() || model.diagonal_mass != self.model.diagonal_mass {
+            return Err(Error::invalid(
+                "bridge.model",
+                model.spec.label(),
+                "a rebuilt model must keep the DOF layout of the running one",
+            ));
+        }
+        let mut bridge = Newmark::new(
+            &model.mass,
+            &model.damping,
+            &model.stiffness,
+            self.bridge.coefficients,
+            mode,
+        )?;
+        bridge.state = self.bridge.state.clone();
+        self.inverse_columns = bridge.inverse_columns();
+        self.bridge = bridge;
+        self.model = Cow::Owned(model);
+        Ok(())
+    }
+
+    /// Adds a vehicle (it takes part from its entry step on).
+    pub fn add_vehicle(&mut self, vehicle: CoupledVehicle) {
+        self.vehicles.push(vehicle);
+    }
+
+    /// Time of the last completed step (s).
+    pub fn time_s(&self) -> f64 {
+        self.step as f64 * self.bridge.coefficients.dt_s
+    }
+
+    /// Advances one step.
+    pub fn advance(&mut self) -> Result<()> {
+        let next = self.step + 1;
+        let coefficients = self.bridge.coefficients;
+        let dt = coefficients.dt_s;
+        let span = self.model.span_m();
+        for v in &mut self.vehicles {
+            if !v.active && !v.retired && v.entry_step <= next {
+                // The equilibrium is that of the state being advanced: positions at `step`.
+                v.activate(self.road, self.step, &coefficients)?;
+            }
+            if v.active && v.has_left(span, self.retire_after_m, next, dt) {
+                v.active = false;
+                v.retired = true;
+            }
+        }
+        self.gather_contacts(next);
+        self.prepare_bridge();
+        self.prepare_vehicles();
+        self.solve_contact_forces();
+        self.commit();
+        self.step = next;
+        Ok(())
+    }
+
+    /// Builds the contact list at step `next` with point operators at the new positions.
+    fn gather_contacts(&mut self, next: u64) {
+        let dt = self.bridge.coefficients.dt_s;
+        let n = self.model.n_dof();
+        let mut count = 0;
+        for (vi, v) in self.vehicles.iter().enumerate() {
+            if !v.active {
+                continue;
+            }
+            for j in 0..v.dynamics.axles.len() {
+                if self.contacts.len() <= count {
+                    self.contacts.push(Contact {
+                        vehicle: 0,
+                        axle: 0,
+                        x_m: 0.0,
+                        on_span: false,
+                        h: SparseVec::with_capacity(n),
+                        h_slope: SparseVec::with_capacity(n),
+                        z: DVector::zeros(n),
+                        kappa: 0.0,
+                        c: 0.0,
+                        rhs: 0.0,
+                        active: true,
+                    });
+                }
+                let c = &mut self.contacts[count];
+                c.vehicle = vi;
+                c.axle = j;
+                c.x_m = v.axle_x_m(j, next, dt);
+                c.on_span = self.model.on_span(c.x_m);
+                self.model
+                    .point_operator(c.x_m, PointQuantity::Deflection, &mut c.h);
+                self.model
+                    .point_operator(c.x_m, PointQuantity::Slope, &mut c.h_slope);
+                c.active = true;
+                count += 1;
+            }
+        }
+        self.contacts.truncate(count);
+    }
+
+    /// u0 = K_eff^-1 (history + external - H F_static); Z_j = K_eff^-1 h_j.
+    fn prepare_bridge(&mut self) {
+        let c = self.bridge.coefficients;
+        self.rhs.copy_from(&self.external_load);
+        self.bridge.add_history(&mut self.rhs);
+        for contact in &self.contacts {
+            if contact.on_span {
+                let load =
+                    self.vehicles[contact.vehicle].dynamics.axles[contact.axle].static_load_n;
+                contact.h.add_scaled_to(-load, &mut self.rhs);
+            }
+        }
+        self.bridge.solve_in_place(&mut self.rhs);
+        // beta_u = -a1 u - a4 v - a5 a: the part of the new velocity known before the step.
+        let s = &self.bridge.state;
+        self.beta_u.copy_from(&s.u);
+        self.beta_u.scale_mut(-c.a1);
+        self.beta_u.axpy(-c.a4, &s.v, 1.0);
+        self.beta_u.axpy(-c.a5, &s.a, 1.0);
+        for contact in &mut self.contacts {
+            if contact.on_span {
+                contact.z.fill(0.0);
+                match &self.inverse_columns {
+                    Some(columns) => {
+                        for (&k, &w) in contact.h.idx.iter().zip(&contact.h.val) {
+                            contact.z.axpy(w, &columns[k], 1.0);
+                        }
+                    }
+                    None => {
+                        contact.h.add_scaled_to(1.0, &mut contact.z);
+                        self.bridge.solve_in_place(&mut contact.z);
+                    }
+                }
+            }
+        }
+    }
+
+    /// y0 = K_eff,v^-1 (vehicle history), and the known parts of each tyre force.
+    fn prepare_vehicles(&mut self) {
+        let c = self.bridge.coefficients;
+        for v in &mut self.vehicles {
+            if !v.active || v.dynamics.n_dof() == 0 {
+                continue;
+            }
+            let s = &v.state;
+            v.scratch.copy_from(&s.u);
+            v.scratch.scale_mut(c.a0);
+            v.scratch.axpy(c.a2, &s.v, 1.0);
+            v.scratch.axpy(c.a3, &s.a, 1.0);
+            v.history.gemv(1.0, &v.dynamics.mass, &v.scratch, 0.0);
+            v.scratch.copy_from(&s.u);
+            v.scratch.scale_mut(c.a1);
+            v.scratch.axpy(c.a4, &s.v, 1.0);
+            v.scratch.axpy(c.a5, &s.a, 1.0);
+            v.history.gemv(1.0, &v.dynamics.damping, &v.scratch, 1.0);
+            v.y0.copy_from(&v.history);
+            if let Some(f) = &v.factor {
+                f.solve_mut(&mut v.y0);
+            }
+        }
+        let u0 = &self.rhs;
+        for contact in &mut self.contacts {
+            let v = &self.vehicles[contact.vehicle];
+            let axle = &v.dynamics.axles[contact.axle];
+            let Some(dof) = axle.dof else {
+                contact.kappa = 0.0;
+                contact.c = 0.0;
+                contact.rhs = 0.0;
+                continue;
+            };
+            let (kt, ct, speed) = (
+                axle.tyre_stiffness_n_m,
+                axle.tyre_damping_n_s_m,
+                v.velocity_m_s(),
+            );
+            contact.kappa = kt + c.a1 * ct;
+            let beta_y = -c.a1 * v.state.u[dof] - c.a4 * v.state.v[dof] - c.a5 * v.state.a[dof];
+            let r = self.road.elevation_m(contact.x_m);
+            let r_slope = self.road.slope(contact.x_m);
+            let mut known = kt * r + ct * speed * r_slope - ct * beta_y;
+            let mut alpha_u0 = 0.0;
+            if contact.on_span {
+                known += ct * contact.h.dot(&self.beta_u);
+                alpha_u0 = contact.kappa * contact.h.dot(u0) + ct * speed * contact.h_slope.dot(u0);
+            }
+            contact.c = known;
+            contact.rhs = alpha_u0 - contact.kappa * v.y0[dof] + known;
+        }
+    }
+
+    /// alpha_j . x for a bridge vector x.
+    fn alpha_dot(&self, j: usize, x: &DVector<f64>) -> f64 {
+        let contact = &self.contacts[j];
+        if !contact.on_span || contact.kappa == 0.0 {
+            return 0.0;
+        }
+        let v = &self.vehicles[contact.vehicle];
+        let ct = v.dynamics.axles[contact.axle].tyre_damping_n_s_m;
+        contact.kappa * contact.h.dot(x) + ct * v.velocity_m_s() * contact.h_slope.dot(x)
+    }
+
+    /// Solves the small system for the dynamic tyre forces, with an active set for
+    /// unilateral contact.
+    fn solve_contact_forces(&mut self) {
+        let p = self.contacts.len();
+        self.forces.resize(p, 0.0);
+        for _iteration in 0..20 {
+            // Matrix B_jk = delta_jk + alpha_j . Z_k + kappa_j G_jk (same vehicle); inactive
+            // rows pin f_j = -F_static (zero total force).
+            let mut entries = std::mem::take(&mut self.entries);
+            entries.clear();
+            entries.extend((0..p * p).map(|idx| self.system_entry(idx % p, idx / p)));
+            for (j, contact) in self.contacts.iter().enumerate() {
+                self.forces[j] = if contact.active {
+                    contact.rhs
+                } else {
+                    -self.vehicles[contact.vehicle].dynamics.axles[contact.axle].static_load_n
+                };
+            }
+            self.lu
+                .solve(p, |i, j| entries[i + j * p], &mut self.forces);
+            self.entries = entries;
+            if self.contact_law == ContactLaw::Full || !self.update_active_set() {
+                break;
+            }
+        }
+    }
+
+    fn system_entry(&self, j: usize, k: usize) -> f64 {
+        let cj = &self.contacts[j];
+        let identity = if j == k { 1.0 } else { 0.0 };
+        if !cj.active || cj.kappa == 0.0 {
+            return identity;
+        }
+        let ck = &self.contacts[k];
+        let mut entry = identity;
+        if cj.on_span && ck.on_span {
+            entry += self.alpha_dot(j, &ck.z);
+        }
+        if cj.vehicle == ck.vehicle {
+            let v = &self.vehicles[cj.vehicle];
+            if let Some(dof) = v.dynamics.axles[cj.axle].dof {
+                entry += cj.kappa * v.w_tyres[(dof, ck.axle)];
+            }
+        }
+        entry
+    }
+
+    /// Flips contacts whose state is inconsistent with the solution; true if any changed.
+    fn update_active_set(&mut self) -> bool {
+        let mut changed = false;
+        for j in 0..self.contacts.len() {
+            let f_trial = self.trial_force(j);
+            let contact = &self.contacts[j];
+            let axle = &self.vehicles[contact.vehicle].dynamics.axles[contact.axle];
+            if axle.dof.is_none() {
+                continue;
+            }
+            let total = axle.static_load_n + f_trial;
+            let should_touch = total > 0.0;
+            if should_touch != contact.active {
+                self.contacts[j].active = should_touch;
+                changed = true;
+            }
+        }
+        changed
+    }
+
+    /// The tyre force law evaluated at the current solution (what the tyre would carry in contact).
+    fn trial_force(&self, j: usize) -> f64 {
+        let contact = &self.contacts[j];
+        if !contact.active {
+            let v = &self.vehicles[contact.vehicle];
+            let Some(dof) = v.dynamics.axles[contact.axle].dof else {
+                return 0.0;
+            };
+            // u = u0 - Z f, y = y0 + W f: the law's linear form at that state.
+            let mut value = contact.rhs;
+            for (k, ck) in self.contacts.iter().enumerate() {
+                if contact.on_span && ck.on_span {
+                    value -= self.alpha_dot(j, &ck.z) * self.forces[k];
+                }
+                if ck.vehicle == contact.vehicle {
+                    value -= contact.kappa * v.w_tyres[(dof, ck.axle)] * self.forces[k];
+                }
+            }
+            return value;
+        }
+        self.forces[j]
+    }
+
+    /// u = u0 - Z f, y = y0 + W f; Newmark updates; records contact forces.
+    fn commit(&mut self) {
+        for (k, contact) in self.contacts.iter().enumerate() {
+            if contact.on_span {
+                self.rhs.axpy(-self.forces[k], &contact.z, 1.0);
+            }
+        }
+        let u_next = std::mem::replace(&mut self.rhs, DVector::zeros(0));
+        self.bridge.commit(&u_next);
+        self.rhs = u_next;
+        let c = self.bridge.coefficients;
+        for (k, contact) in self.contacts.iter().enumerate() {
+            let v = &mut self.vehicles[contact.vehicle];
+            if v.dynamics.n_dof() > 0 {
+                v.y0.axpy(self.forces[k], &v.w_tyres.column(contact.axle), 1.0);
+            }
+            let total = v.dynamics.axles[contact.axle].static_load_n + self.forces[k];
+            v.contact_force_n[contact.axle] = total;
+            v.in_contact[contact.axle] = contact.active;
+        }
+        for v in &mut self.vehicles {
+            if !v.active {
+                continue;
+            }
+            if v.in_contact.iter().any(|&t| !t) || v.contact_force_n.iter().any(|&f| f < 0.0) {
+                v.contact_loss_steps += 1;
+            }
+            let n = v.dynamics.n_dof();
+            for i in 0..n {
+                let y_next = v.y0[i];
+                let a_next = c.acceleration(y_next, v.state.u[i], v.state.v[i], v.state.a[i]);
+                v.state.v[i] += c.dt_s * ((1.0 - c.gamma) * v.state.a[i] + c.gamma * a_next);
+                v.state.a[i] = a_next;
+                v.state.u[i] = y_next;
+            }
+        }
+    }
+
+    /// Bridge quantity at x from the current state (`which` 0: u, 1: v, 2: a).
+    pub fn bridge_response(
+        &self,
+        x_m: f64,
+        quantity: PointQuantity,
+        which: usize,
+        op: &mut SparseVec,
+    ) -> f64 {
+        self.model.point_operator(x_m, quantity, op);
+        let s = &self.bridge.state;
+        op.dot(match which {
+            0 => &s.u,
+            1 => &s.v,
+            _ => &s.a,
+        })
+    }
+}
