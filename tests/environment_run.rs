@@ -70,7 +70,7 @@ fn free_vibration_hz(records: &[Record], from_s: f64, to_s: f64) -> f64 {
     let samples: Vec<(f64, f64)> = records
         .iter()
         .filter_map(|r| match r {
-            Record::Sensor { t_ns, truth, .. } => Some((*t_ns as f64 * 1e-9, truth[0])),
+            Record::Sensor { t_ns, truth, .. } => Some((*t_ns as f64 * 1e-9, truth.displacement_m)),
             _ => None,
         })
         .filter(|(t, _)| (from_s..=to_s).contains(t))

@@ -597,8 +597,7 @@ fn a_full_disk_is_an_error_naming_the_output() {
         capacity: 200_000,
     };
     let mut sink = McapSink::on_writer(disk, &SinkOptions::default(), "full.mcap").unwrap();
-    let nodes = prepared.model.shape_positions_m().to_vec();
-    let mut recorder = bridgetwin::output::McapRecorder::new(&mut sink, &resolved, nodes).unwrap();
+    let mut recorder = bridgetwin::output::McapRecorder::new(&mut sink);
     let err = bridgetwin::sim::run(&resolved, &prepared, &mut recorder, &mut |_, _| {})
         .expect_err("the disk fills up");
     let text = err.to_string();

@@ -3,6 +3,7 @@
 //! each module (`tests/sensor_presets.rs`, `tests/daq.rs`, `tests/ambient.rs`,
 //! `tests/wim_models.rs`).
 
+use bridgetwin::record::Quantities;
 use bridgetwin::scenario::Scenario;
 use bridgetwin::sim::{prepare, run, Record, VecRecorder};
 
@@ -32,7 +33,7 @@ fn records(toml: &str) -> Vec<Record> {
 }
 
 /// (true instant, stamp, measured, truth quantities) of sensor `index`.
-type Sample = (u64, i64, Option<f64>, [f64; 5]);
+type Sample = (u64, i64, Option<f64>, Quantities);
 
 fn samples(records: &[Record], index: usize) -> Vec<Sample> {
     records
@@ -201,7 +202,7 @@ fn every_lost_sample_lies_in_a_labelled_fault_and_every_label_is_in_the_file() {
     assert!(spikes.len() >= 2, "{spikes:?}");
     for x in &s {
         if let Some(m) = x.2 {
-            let off = (m - x.3[2]).abs() > 2.5;
+            let off = (m - x.3.acceleration_m_s2).abs() > 2.5;
             assert_eq!(off, spikes.contains(&x.0), "sample at {} ns", x.0);
         }
     }
@@ -223,7 +224,7 @@ fn ambient_excitation_reaches_its_target_rms_through_the_whole_run() {
     let a: Vec<f64> = s
         .iter()
         .filter(|x| x.0 > 5_000_000_000)
-        .map(|x| x.3[2])
+        .map(|x| x.3.acceleration_m_s2)
         .collect();
     let rms = (a.iter().map(|v| v * v).sum::<f64>() / a.len() as f64).sqrt();
     assert!((rms / 0.004 - 1.0).abs() < 0.10, "rms {rms}");
@@ -301,16 +302,18 @@ fn a_vehicle_in_the_opposite_direction_mirrors_the_response() {
     // Both enter their bridge end at the same instant and leave it together.
     assert!(fwd_times.0.is_some() && fwd_times.1.is_some());
     assert_eq!(fwd_times, rev_times);
-    let peak = fwd_q1.iter().fold(0.0f64, |a, s| a.max(s.3[0].abs()));
+    let peak = fwd_q1
+        .iter()
+        .fold(0.0f64, |a, s| a.max(s.3.displacement_m.abs()));
     assert!(peak > 1e-4, "deflection peak {peak}");
     for (a, b) in [(&fwd_q1, &rev_q3), (&fwd_q3, &rev_q1)] {
         assert_eq!(a.len(), b.len());
         for (x, y) in a.iter().zip(b.iter()) {
             assert!(
-                (x.3[0] - y.3[0]).abs() < 1e-9 * peak,
+                (x.3.displacement_m - y.3.displacement_m).abs() < 1e-9 * peak,
                 "{} vs {}",
-                x.3[0],
-                y.3[0]
+                x.3.displacement_m,
+                y.3.displacement_m
             );
         }
     }

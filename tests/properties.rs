@@ -250,7 +250,7 @@ fn record_floats(record: &Record) -> Vec<(&'static str, f64)> {
             measured, truth, ..
         } => {
             out.extend(measured.map(|m| ("sensor.measured", m)));
-            out.extend(truth.iter().map(|&v| ("sensor.truth", v)));
+            out.extend(truth.to_columns().iter().map(|&v| ("sensor.truth", v)));
         }
         Record::AxleLoads { axles, .. } => {
             for a in axles {

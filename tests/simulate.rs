@@ -63,7 +63,7 @@ fn without_noise_the_measurement_equals_the_truth_at_the_sample_instants() {
                     ..
                 } if *sensor == i => Some((
                     measured.expect("no faults configured"),
-                    truth[sensor_kind_index(&resolved, i)],
+                    truth.measured_by(resolved.sensors[i].spec.kind),
                 )),
                 _ => None,
             })
@@ -87,15 +87,6 @@ fn without_noise_the_measurement_equals_the_truth_at_the_sample_instants() {
                 sensor.spec.id
             );
         }
-    }
-}
-
-fn sensor_kind_index(resolved: &bridgetwin::scenario::Resolved, i: usize) -> usize {
-    use bridgetwin::scenario::SensorKind;
-    match resolved.sensors[i].spec.kind {
-        SensorKind::Displacement => 0,
-        SensorKind::Accelerometer => 2,
-        SensorKind::Strain => 3,
     }
 }
 

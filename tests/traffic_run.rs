@@ -167,7 +167,7 @@ fn a_slow_articulated_truck_gives_the_static_influence_line_plus_a_small_dynamic
     let measured: Vec<(u64, f64)> = recs
         .iter()
         .filter_map(|r| match r {
-            Record::Sensor { t_ns, truth, .. } => Some((*t_ns, truth[0])),
+            Record::Sensor { t_ns, truth, .. } => Some((*t_ns, truth.displacement_m)),
             _ => None,
         })
         .collect();

@@ -1,9 +1,8 @@
-//! One run written as one MCAP file: metadata, attachments, modal state and the records
-//! of the simulation. Shared by `simulate` and `sweep`.
+//! One run written as one MCAP file (or its hourly parts): the time loop driven into the
+//! MCAP output. Shared by `simulate`, `sweep` and the benches.
 
-use std::collections::BTreeMap;
 use std::io::{Seek, Write};
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use crate::error::Result;
 use crate::output::{McapRecorder, McapSink};
@@ -30,95 +29,27 @@ pub enum WriterThread {
     Background,
 }
 
-/// Writes a whole run into `sink`: the metadata records (`bridgetwin`, `scenario`,
-/// `bridge_model`), the attachments (the scenario as the user wrote it, the road profile),
-/// the modal state, then every record of the simulation. The caller finishes the sink
-/// (`finish`, or `finish_partial` when `summary.stopped_at_s` is set).
+/// Runs the scenario into `sink`: the time loop hands the manifest and every record to an
+/// MCAP recorder (on this thread or a second one), which writes the metadata records
+/// (`bridgetwin`, `scenario`, `bridge_model`), the attachments (the scenario as the user
+/// wrote it, `resolved.source_toml`, and the road profile), the modal state, then every
+/// record. Chunks close every `resolved.flush_every_ns` of simulated time. The caller
+/// finishes the sink (`finish`, or `finish_partial` when `summary.stopped_at_s` is set).
 pub fn write_run<W: Write + Seek + Send>(
     sink: &mut McapSink<W>,
     resolved: &Resolved,
     prepared: &Prepared,
-    original_toml: &str,
     control: &mut Control,
     thread: WriterThread,
 ) -> Result<Written> {
-    let s = &resolved.scenario;
-    let start = resolved.start_time_ns;
-    sink.write_metadata(
-        "bridgetwin",
-        BTreeMap::from([
-            ("version".to_string(), env!("CARGO_PKG_VERSION").to_string()),
-            (
-                "git_revision".to_string(),
-                option_env!("BRIDGETWIN_GIT_REVISION")
-                    .unwrap_or("unknown")
-                    .to_string(),
-            ),
-            ("seed".to_string(), s.seed.to_string()),
-            ("start_time".to_string(), s.start_time.clone()),
-        ]),
-    )?;
-    sink.write_metadata(
-        "scenario",
-        BTreeMap::from([("toml".to_string(), s.to_toml())]),
-    )?;
-    let model = &prepared.model;
-    let freqs: Vec<String> = (1..=model.omega_rad_s.len().min(10))
-        .map(|n| format!("{:.6}", model.frequency_hz(n)))
-        .collect();
-    sink.write_metadata(
-        "bridge_model",
-        BTreeMap::from([
-            ("model".to_string(), s.bridge.model.label()),
-            ("natural_frequencies_hz".to_string(), freqs.join(",")),
-            (
-                "damping_ratio".to_string(),
-                s.bridge.damping_ratio.to_string(),
-            ),
-            (
-                "rayleigh_a0_per_s".to_string(),
-                model.rayleigh.a0_per_s.to_string(),
-            ),
-            ("rayleigh_a1_s".to_string(), model.rayleigh.a1_s.to_string()),
-            (
-                "flexural_rigidity_n_m2".to_string(),
-                s.bridge.flexural_rigidity_n_m2.to_string(),
-            ),
-            (
-                "mass_per_length_kg_m".to_string(),
-                s.bridge.mass_per_length_kg_m.to_string(),
-            ),
-            ("span_m".to_string(), s.bridge.span_m.to_string()),
-            ("road".to_string(), prepared.road.describe().to_string()),
-        ]),
-    )?;
-    sink.attach(
-        "scenario.toml",
-        "application/toml",
-        original_toml.as_bytes(),
-        start,
-    )?;
-    sink.attach(
-        "road_profile.csv",
-        "text/csv",
-        prepared.road.to_csv().as_bytes(),
-        start,
-    )?;
-    let mut recorder = McapRecorder::new(sink, resolved, model.shape_positions_m().to_vec())?;
-    let (freqs, zetas) = model.modal_summary(10);
-    let temperatures_c = prepared
-        .condition
-        .as_ref()
-        .map(|c| (c.state.temperature_structure_c, c.state.temperature_air_c));
-    recorder.write_modal_state(&freqs, &zetas, temperatures_c)?;
-    recorder.flush_every(Duration::from_secs(2));
+    let mut recorder = McapRecorder::new(sink).flush_every_ns(Some(resolved.flush_every_ns));
     let loop_start = Instant::now();
     let (summary, recorder) = match thread {
         WriterThread::Inline => {
             let summary = crate::sim::run_controlled(resolved, prepared, &mut recorder, control)?;
             (summary, recorder)
         }
-        WriterThread::Background => crate::output::pipeline::record_in_background(recorder, |r| {
+        WriterThread::Background => super::pipeline::record_in_background(recorder, |r| {
             crate::sim::run_controlled(resolved, prepared, r, control)
         })?,
     };
@@ -148,7 +79,7 @@ mod tests {
             progress: &mut progress,
             stop: None,
         };
-        write_run(&mut sink, &resolved, &prepared, "", &mut control, thread).unwrap();
+        write_run(&mut sink, &resolved, &prepared, &mut control, thread).unwrap();
         sink.finish_to_bytes().unwrap()
     }
 

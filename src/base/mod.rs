@@ -2,5 +2,6 @@
 //! crate but its error type: named random streams, signal estimates, physical constants.
 
 pub mod random;
+pub mod rate;
 pub mod signal;
 pub mod units;

@@ -121,7 +121,8 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
     if let Some(d) = args.duration_s {
         scenario.duration_s = Some(d);
     }
-    let resolved = scenario.resolve()?;
+    let mut resolved = scenario.resolve()?;
+    resolved.source_toml = original_toml;
     print_warnings(&resolved);
     let prepared = crate::sim::prepare(&resolved)?;
     let mut sink = McapSink::create(&args.out, sink_options(&resolved, args.force))?;
@@ -146,7 +147,6 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
         &mut sink,
         &resolved,
         &prepared,
-        &original_toml,
         &mut control,
         WriterThread::Background,
     );

@@ -9,7 +9,8 @@
 
 use std::collections::BTreeMap;
 
-use crate::sim::Record;
+use crate::base::rate::ExactRate;
+use crate::record::{Quantities, Record};
 
 /// Which stream of a sensor a block belongs to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -24,8 +25,8 @@ pub(super) enum Stream {
 #[derive(Debug)]
 pub(super) struct OpenBlock {
     stream: Stream,
-    /// Nominal sample spacing (ns, fractional for rates that do not divide 1 s).
-    period_ns: f64,
+    /// Nominal sample rate, exact (sample spacings need not be whole ns).
+    rate: ExactRate,
     capacity: usize,
     /// Run-relative true time of the first sample (ns): the block's log time.
     start_ns: u64,
@@ -47,14 +48,14 @@ pub(super) struct ClosedBlock {
 }
 
 impl OpenBlock {
-    pub fn new(stream: Stream, rate_hz: f64, capacity: usize) -> Self {
+    pub fn new(stream: Stream, rate: ExactRate, capacity: usize) -> Self {
         let width = match stream {
             Stream::Measured => 1,
-            Stream::Truth => 5,
+            Stream::Truth => Quantities::COUNT,
         };
         OpenBlock {
             stream,
-            period_ns: 1e9 / rate_hz,
+            rate,
             capacity,
             start_ns: 0,
             start_stamp_ns: 0,
@@ -75,8 +76,12 @@ impl OpenBlock {
     /// the DAQ lost, or a clock resynchronisation, starts a new block, so that
     /// `timestamp + i * period` stays true inside a block).
     fn continues(&self, stamp_ns: i64) -> bool {
-        let expected = self.start_stamp_ns as f64 + self.len() as f64 * self.period_ns;
-        (stamp_ns as f64 - expected).abs() < 0.25 * self.period_ns
+        let expected_ns =
+            self.start_stamp_ns as i128 + self.rate.span_ns(self.len() as u64) as i128;
+        // A quarter period either side: node clock jitter stays far inside, a lost sample
+        // or a resync step far outside.
+        let tolerance_ns = self.rate.span_ns(1) as i128 / 4;
+        (stamp_ns as i128 - expected_ns).abs() < tolerance_ns
     }
 
     /// Adds a sample (`values` has one entry per column); blocks that close (interrupted
@@ -124,7 +129,7 @@ impl OpenBlock {
 
     /// Nominal spacing of the samples rounded to whole ns (what the message carries).
     pub fn period_ns_rounded(&self) -> u64 {
-        self.period_ns.round() as u64
+        self.rate.period_ns_rounded()
     }
 }
 
@@ -167,6 +172,10 @@ impl Reorder {
 mod tests {
     use super::*;
 
+    fn rate(hz: f64) -> ExactRate {
+        ExactRate::from_hz("rate_hz", hz).unwrap()
+    }
+
     fn push_all(block: &mut OpenBlock, times: &[u64]) -> Vec<ClosedBlock> {
         let mut closed = Vec::new();
         for (i, &t) in times.iter().enumerate() {
@@ -177,7 +186,7 @@ mod tests {
 
     #[test]
     fn full_blocks_close_at_capacity() {
-        let mut block = OpenBlock::new(Stream::Truth, 200.0, 3);
+        let mut block = OpenBlock::new(Stream::Truth, rate(200.0), 3);
         let times: Vec<u64> = (0..7).map(|k| k * 5_000_000).collect();
         let closed = push_all(&mut block, &times);
         assert_eq!(closed.len(), 2);
@@ -191,7 +200,7 @@ mod tests {
 
     #[test]
     fn a_gap_closes_the_block_early() {
-        let mut block = OpenBlock::new(Stream::Measured, 200.0, 4);
+        let mut block = OpenBlock::new(Stream::Measured, rate(200.0), 4);
         // Samples 0, 1, then 3 (2 lost), 4, 5, 6.
         let times: Vec<u64> = [0, 1, 3, 4, 5, 6].iter().map(|k| k * 5_000_000).collect();
         let closed = push_all(&mut block, &times);
@@ -204,7 +213,7 @@ mod tests {
     #[test]
     fn fractional_periods_do_not_accumulate_into_false_gaps() {
         // 300 Hz: 3 333 333.3 ns; sample times are rounded to whole ns by the DAQ clock.
-        let mut block = OpenBlock::new(Stream::Truth, 300.0, 1000);
+        let mut block = OpenBlock::new(Stream::Truth, rate(300.0), 1000);
         let times: Vec<u64> = (0..1000u64)
             .map(|k| (k as f64 * 1e9 / 300.0).round() as u64)
             .collect();
@@ -216,7 +225,7 @@ mod tests {
     #[test]
     fn a_clock_jump_starts_a_new_measured_block_with_the_new_stamp() {
         // True times regular; the node's stamps jump back 2 ms (resync) at sample 3.
-        let mut block = OpenBlock::new(Stream::Measured, 200.0, 10);
+        let mut block = OpenBlock::new(Stream::Measured, rate(200.0), 10);
         let mut closed = Vec::new();
         for k in 0..6u64 {
             let t = k * 5_000_000;
@@ -238,7 +247,7 @@ mod tests {
         let event = |t| {
             Pending::Record(Record::Event {
                 t_ns: t,
-                level: crate::sim::EventLevel::Info,
+                level: crate::record::EventLevel::Info,
                 text: format!("{t}"),
             })
         };

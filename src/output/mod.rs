@@ -1,4 +1,6 @@
-//! Output: protobuf messages -> MCAP.
+//! Output: records and the run manifest -> protobuf messages -> MCAP. This layer sees
+//! `record` and the generated protobuf types only: it neither drives the time loop nor
+//! reads the scenario or the models.
 //!
 //! - [`proto`]: the types generated from `schemas/**/*.proto` (`proto::v1::AxleLoads`,
 //!   `proto::foxglove::Log`, ...).
@@ -11,8 +13,9 @@
 //! positive downward; positions are measured along the bridge from the left support.
 
 mod blocks;
+mod channels;
+mod messages;
 mod parts;
-pub mod pipeline;
 mod recorder;
 mod schema;
 mod topics;

@@ -365,6 +365,11 @@ impl<W: Write + Seek> McapSink<W> {
         Self::with_writer(out, options, label.to_owned(), None)
     }
 
+    /// Closes the MCAP of a sink made by [`McapSink::on_writer`] and hands back its writer.
+    pub fn finish_to_writer(self) -> Result<W> {
+        Ok(self.close()?.0)
+    }
+
     fn with_writer(
         out: W,
         options: &SinkOptions,

@@ -1,152 +1,24 @@
-//! What a run produces, as plain data: the sink turns these into protobuf messages.
-//! Times are ns since the start of the run; signs follow the output convention
-//! (vertical displacement, velocity and acceleration downward positive; forces
-//! pressing on the road positive).
+//! What a run produces, as plain data, and the one seam between the time loop and every
+//! output: the loop (`sim`) hands [`Record`]s to a [`Recorder`] in time order, after a
+//! [`RunManifest`] that describes every channel it will fill. An output (the MCAP file,
+//! an in-memory run, a live stream) needs nothing else: it never reads the scenario or
+//! the models.
+//!
+//! Times are ns since the start of the run; signs follow the output convention (vertical
+//! displacement, velocity and acceleration downward positive; strain tension positive;
+//! forces pressing on the road positive).
 
-/// Response quantities at a point, output sign convention (downward positive).
-/// Order: displacement (m), velocity (m/s), acceleration (m/s^2), strain (microstrain), moment (N m).
-pub type Quantities = [f64; 5];
+mod manifest;
+mod quantities;
+mod records;
+mod wim;
 
-/// Severity of an event.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum EventLevel {
-    Info,
-    Warning,
-}
-
-/// One axle's state.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct AxleState {
-    pub vehicle_id: u32,
-    pub axle_index: u32,
-    pub position_m: f64,
-    pub force_n: f64,
-    pub static_load_n: f64,
-    pub in_contact: bool,
-    pub on_bridge: bool,
-}
-
-/// The truth of one vehicle, written when it leaves the bridge (or at the end of the run).
-#[derive(Debug, Clone, PartialEq)]
-pub struct VehicleRecord {
-    pub vehicle_id: u32,
-    pub model: String,
-    pub lane: u32,
-    /// +1 towards +x, -1 towards -x.
-    pub direction: i8,
-    pub speed_m_s: f64,
-    pub entry_time_ns: Option<u64>,
-    pub exit_time_ns: Option<u64>,
-    pub axle_spacing_m: Vec<f64>,
-    pub static_axle_load_n: Vec<f64>,
-    pub gross_weight_n: f64,
-    pub parameters: Vec<(String, f64)>,
-}
-
-/// One WIM record: what station `station` (index into `wim_stations`) reports.
-#[derive(Debug, Clone, PartialEq)]
-pub struct WimRecordData {
-    pub station: usize,
-    pub measurement: crate::measurement::wim::WimMeasurement,
-}
-
-/// The modal state of the running bridge model and its stiffness condition.
-#[derive(Debug, Clone, PartialEq)]
-pub struct ModalRecord {
-    /// Lowest modes first (at most 10).
-    pub natural_frequency_hz: Vec<f64>,
-    pub damping_ratio: Vec<f64>,
-    /// EI over the scenario's EI at the midpoint of each interval between the shape nodes.
-    pub stiffness_ratio: Vec<f64>,
-    /// Fraction of EI lost by each `[[damage]]` entry, scenario order.
-    pub damage_fraction: Vec<f64>,
-}
-
-/// A record with its time.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Record {
-    /// One sensor sample. `t_ns` is the true instant the DAQ node sampled (the log time of
-    /// both messages and the truth's stamp); `stamp_ns` is the node clock's reading then
-    /// (the measured message's stamp; equal to `t_ns` without a clock model, negative
-    /// only with a negative clock offset); `measured` is `None` when a fault lost it.
-    Sensor {
-        sensor: usize,
-        t_ns: u64,
-        stamp_ns: i64,
-        measured: Option<f64>,
-        truth: Quantities,
-    },
-    /// A labelled fault interval of one sensor's measured stream, written at its start;
-    /// `end_ns` (exclusive) is `None` for a fault lasting to the end of the run.
-    Fault {
-        t_ns: u64,
-        sensor: usize,
-        kind: &'static str,
-        end_ns: Option<u64>,
-        magnitude: f64,
-    },
-    AxleLoads {
-        t_ns: u64,
-        axles: Vec<AxleState>,
-    },
-    /// The deflected shape; with `[environment]` or `[[damage]]` also the (structure, air)
-    /// temperatures (degC), and after a model rebuild (and once a minute) the modal state.
-    BridgeShape {
-        t_ns: u64,
-        deflection_m: Vec<f64>,
-        temperatures_c: Option<(f64, f64)>,
-        modal: Option<Box<ModalRecord>>,
-    },
-    Vehicle {
-        t_ns: u64,
-        vehicle: VehicleRecord,
-    },
-    Wim {
-        t_ns: u64,
-        record: WimRecordData,
-    },
-    Event {
-        t_ns: u64,
-        level: EventLevel,
-        text: String,
-    },
-}
-
-impl Record {
-    /// Time of the record (ns since the run start).
-    pub fn t_ns(&self) -> u64 {
-        match self {
-            Record::Sensor { t_ns, .. }
-            | Record::Fault { t_ns, .. }
-            | Record::AxleLoads { t_ns, .. }
-            | Record::BridgeShape { t_ns, .. }
-            | Record::Vehicle { t_ns, .. }
-            | Record::Wim { t_ns, .. }
-            | Record::Event { t_ns, .. } => *t_ns,
-        }
-    }
-}
-
-/// Receives the records of a run in non-decreasing time order.
-pub trait Recorder {
-    fn record(&mut self, record: Record) -> crate::Result<()>;
-
-    /// Called once after the last record (and after an interrupted run's last record):
-    /// write what is still buffered.
-    fn finish(&mut self) -> crate::Result<()> {
-        Ok(())
-    }
-}
-
-/// Collects records in memory (tests, small runs).
-#[derive(Debug, Default)]
-pub struct VecRecorder {
-    pub records: Vec<Record>,
-}
-
-impl Recorder for VecRecorder {
-    fn record(&mut self, record: Record) -> crate::Result<()> {
-        self.records.push(record);
-        Ok(())
-    }
-}
+pub use manifest::{
+    BridgeSummary, ChainParameter, DaqClockInfo, Layout, RoadSummary, RunInfo, RunManifest,
+    SensorChannelInfo, StreamRates, WimStationInfo,
+};
+pub use quantities::{Quantities, SensorKind};
+pub use records::{
+    AxleState, EventLevel, ModalRecord, Record, Recorder, VecRecorder, VehicleRecord, WimRecordData,
+};
+pub use wim::{AppliedErrors, AxleGroup, LoadReference, WimMeasurement};

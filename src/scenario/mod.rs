@@ -1,7 +1,11 @@
 //! Scenario: TOML -> validated `Scenario`. Every field is checked once, here, and errors
 //! name the field path (`sensors.2.rate_hz = 5000 ...`).
 
-mod validate;
+mod resolve;
+#[cfg(test)]
+mod resolve_tests;
+mod resolved;
+mod sensors;
 
 use std::path::Path;
 
@@ -12,11 +16,15 @@ use crate::physics::bridge::{BeamProperties, ModelSpec, StiffnessRegion};
 use crate::physics::road::RoadProfileSpec;
 use crate::physics::solver::{ContactLaw, NewmarkParams};
 use crate::physics::vehicle::VehicleModelSpec;
+pub use crate::record::{Layout, SensorKind};
 
-pub use validate::{
-    Resolved, ResolvedSensor, ResolvedVehicle, F1_RANGE_HZ, MAX_DURATION_S, MAX_ROAD_M, MAX_SPAN_M,
-    MAX_STEPS, MIN_STEPS_PER_MODE_PERIOD, MIN_STEPS_PER_SENSOR_PERIOD,
+use resolve::unique_segment;
+pub use resolve::{F1_RANGE_HZ, MAX_DURATION_S, MAX_ROAD_M, MAX_SPAN_M, MAX_STEPS};
+pub use resolved::{
+    Resolved, ResolvedSensor, ResolvedVehicle, MIN_STEPS_PER_MODE_PERIOD,
+    MIN_STEPS_PER_SENSOR_PERIOD,
 };
+pub use sensors::sensor_streams;
 
 /// The embedded default scenario (`bridgetwin scenario show`).
 pub const DEFAULT_SCENARIO_TOML: &str = include_str!("default.toml");
@@ -206,34 +214,14 @@ fn default_lane() -> u32 {
     1
 }
 
-/// What a sensor measures.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum SensorKind {
-    Accelerometer,
-    Strain,
-    Displacement,
-}
-
-impl SensorKind {
-    /// Default white-noise density in the sensor's unit per sqrt(Hz): ADXL355-class
-    /// 22.5 ug/sqrt(Hz); foil strain gauge ~0.5 ue rms at 1 kHz; 1 um/sqrt(Hz) for
-    /// displacement (SENSORS.md sections 1-2).
-    pub fn default_noise_density(self) -> f64 {
-        match self {
-            SensorKind::Accelerometer => 22.5e-6 * crate::base::units::GRAVITY_M_S2,
-            SensorKind::Strain => 0.02,
-            SensorKind::Displacement => 1e-6,
-        }
-    }
-
-    /// Unit of the recorded value.
-    pub fn unit(self) -> &'static str {
-        match self {
-            SensorKind::Accelerometer => "m/s^2",
-            SensorKind::Strain => "microstrain",
-            SensorKind::Displacement => "m",
-        }
+/// Default white-noise density in the unit of a sensor of `kind` per sqrt(Hz):
+/// ADXL355-class 22.5 ug/sqrt(Hz); foil strain gauge ~0.5 ue rms at 1 kHz; 1 um/sqrt(Hz)
+/// for displacement (SENSORS.md sections 1-2).
+pub fn default_noise_density(kind: SensorKind) -> f64 {
+    match kind {
+        SensorKind::Accelerometer => 22.5e-6 * crate::base::units::GRAVITY_M_S2,
+        SensorKind::Strain => 0.02,
+        SensorKind::Displacement => 1e-6,
     }
 }
 
@@ -289,16 +277,6 @@ pub struct WimStationSpec {
     pub limits: crate::measurement::wim::WimLimits,
 }
 
-/// How messages are laid out.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Layout {
-    /// One sample per message: every field plottable as a time series.
-    Sample,
-    /// Blocks of `block_samples` samples per message, as DAQ packets.
-    Block,
-}
-
 /// Output options.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -321,7 +299,18 @@ pub struct OutputSection {
     /// (one file's index grows with its size). Default: one file.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub split_every_s: Option<f64>,
+    /// Closes the file's current chunk every this much simulated time (s, > 0; default
+    /// 60), so that a run killed midway leaves a file readable up to a recent flush. It
+    /// follows simulated time, never the wall clock: the bytes never depend on the
+    /// machine's speed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub flush_every_s: Option<f64>,
 }
+
+/// Default of `output.flush_every_s`: a killed run loses at most the last simulated
+/// minute (or the last 1 MiB chunk, whichever is less), and one chunk boundary a minute
+/// costs a negligible index entry.
+pub const DEFAULT_FLUSH_EVERY_S: f64 = 60.0;
 
 fn default_layout() -> Layout {
     Layout::Sample
@@ -344,6 +333,7 @@ impl Default for OutputSection {
             axle_load_rate_hz: default_axle_rate(),
             bridge_state_rate_hz: default_bridge_rate(),
             split_every_s: None,
+            flush_every_s: None,
         }
     }
 }

@@ -116,7 +116,7 @@ impl Condition {
         sensor_temperature: SensorTemperature,
     ) -> Self {
         let s = &resolved.scenario;
-        let steps_per_s = 1e9 / resolved.dt_ns as f64;
+        let steps_per_s = resolved.solver_rate_hz;
         let policy = s
             .environment
             .as_ref()

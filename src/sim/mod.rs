@@ -6,6 +6,7 @@
 
 mod condition;
 mod daq;
+mod manifest;
 mod tap;
 mod tracking;
 mod traffic;
@@ -18,10 +19,8 @@ use crate::error::{Error, Result};
 use crate::physics::bridge::{BridgeModel, ModelSpec, PointQuantity, SparseVec};
 use crate::physics::excitation::{AmbientField, AMBIENT_STREAM};
 use crate::physics::road::RoadProfile;
-use crate::physics::solver::{
-    CoupledSolver, CoupledVehicle, NewmarkCoefficients, RoadSurface, SolveMode, Storage,
-};
-use crate::scenario::{Resolved, SensorKind};
+use crate::physics::solver::{CoupledSolver, CoupledVehicle, RoadSurface, SolveMode, Storage};
+use crate::scenario::Resolved;
 
 pub use crate::record::Quantities;
 pub use crate::record::{
@@ -29,7 +28,7 @@ pub use crate::record::{
 };
 pub use condition::{condition_start, ConditionStart};
 use condition::{Condition, SensorTemperature};
-pub use daq::chain_stages;
+pub use manifest::manifest;
 pub use tap::SensorTap;
 use tracking::Tracker;
 
@@ -146,14 +145,14 @@ fn quantities(
     strain_per_moment: f64,
 ) -> Quantities {
     let s = &solver.bridge.state;
-    let moment = moment_op.dot(&s.u);
-    [
-        -deflection_op.dot(&s.u),
-        -deflection_op.dot(&s.v),
-        -deflection_op.dot(&s.a),
-        strain_per_moment * moment,
-        moment,
-    ]
+    let moment_n_m = moment_op.dot(&s.u);
+    Quantities {
+        displacement_m: -deflection_op.dot(&s.u),
+        velocity_m_s: -deflection_op.dot(&s.v),
+        acceleration_m_s2: -deflection_op.dot(&s.a),
+        strain_microstrain: strain_per_moment * moment_n_m,
+        moment_n_m,
+    }
 }
 
 fn solve_mode(spec: &ModelSpec) -> SolveMode {
@@ -164,7 +163,8 @@ fn solve_mode(spec: &ModelSpec) -> SolveMode {
     }
 }
 
-/// Runs the scenario, handing records to `recorder` in non-decreasing time.
+/// Runs the scenario: hands `recorder` the run's manifest, then every record in
+/// non-decreasing time, then calls its `finish`.
 /// `progress(step, steps)` is called every few thousand steps.
 pub fn run(
     resolved: &Resolved,
@@ -187,14 +187,14 @@ pub fn run_controlled(
     recorder: &mut dyn Recorder,
     control: &mut Control,
 ) -> Result<RunSummary> {
+    recorder.begin(&manifest(resolved, prepared)?)?;
     let s = &resolved.scenario;
     let model = &prepared.model;
-    let dt_s = resolved.dt_ns as f64 * 1e-9;
-    let coefficients = NewmarkCoefficients::new(dt_s, s.solver.newmark)?;
+    let dt_s = resolved.dt_s;
     let mut solver = CoupledSolver::new(
         model,
         &prepared.road,
-        coefficients,
+        resolved.newmark,
         solve_mode(&s.bridge.model),
         s.solver.contact,
     )?;
@@ -227,18 +227,13 @@ pub fn run_controlled(
     let mut ops = vec![(SparseVec::default(), SparseVec::default(), 0.0); resolved.sensors.len()];
     sensor_operators(model, resolved, &mut ops);
     for (i, sensor) in resolved.sensors.iter().enumerate() {
-        let measured_index = match sensor.spec.kind {
-            SensorKind::Displacement => 0,
-            SensorKind::Accelerometer => 2,
-            SensorKind::Strain => 3,
-        };
         let (channel, clipped) =
             daq::sensor_channel(resolved, sensor, i, sensor_temperature.function())?;
         taps.push(
             SensorTap::new(
                 i,
                 channel,
-                measured_index,
+                sensor.spec.kind,
                 daq::fault_injector(resolved, sensor, i)?,
             )
             .with_clip_counter(clipped),
@@ -254,7 +249,7 @@ pub fn run_controlled(
     deflection_operators(model, &mut shape_ops, &mut midspan);
     let hint = divergence_hint(s);
     let mut peak_midspan_m = 0.0f64;
-    let mut resyncs = daq::Resyncs::new(resolved)?;
+    let mut resyncs = daq::Resyncs::new(resolved);
     let mut ambient = match &s.ambient {
         Some(spec) => Some(AmbientField::new(
             spec,

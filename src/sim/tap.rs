@@ -14,7 +14,7 @@ use std::collections::VecDeque;
 use crate::measurement::daq::{FaultInjector, FaultKind, FaultLabel, OPEN_END_NS};
 use crate::measurement::sensor::chain::ClipCounter;
 use crate::measurement::sensor::{hermite, SensorChannel, HERMITE_LOOKAHEAD, HERMITE_LOOKBACK};
-use crate::record::{Quantities, Record};
+use crate::record::{Quantities, Record, SensorKind};
 
 /// The record of a fault label found at the sample at `sample_ns`.
 fn fault_record(sensor: usize, label: &FaultLabel, sample_ns: u64) -> Record {
@@ -43,29 +43,30 @@ fn sample_record(
     }
 }
 
-/// The last `cap` solver samples of the five quantities, addressed by solver index.
+/// The last `cap` solver samples of the five quantities (in column order), addressed by
+/// solver index.
 struct History {
-    buf: Vec<Quantities>,
+    buf: Vec<[f64; Quantities::COUNT]>,
     pushed: u64,
 }
 
 impl History {
     fn new(cap: usize) -> Self {
         History {
-            buf: vec![[0.0; 5]; cap.max(HERMITE_LOOKBACK + HERMITE_LOOKAHEAD + 1)],
+            buf: vec![[0.0; Quantities::COUNT]; cap.max(HERMITE_LOOKBACK + HERMITE_LOOKAHEAD + 1)],
             pushed: 0,
         }
     }
 
     fn push(&mut self, values: &Quantities) {
         let cap = self.buf.len() as u64;
-        self.buf[(self.pushed % cap) as usize] = *values;
+        self.buf[(self.pushed % cap) as usize] = values.to_columns();
         self.pushed += 1;
     }
 
     /// Sample `n` (may be before the first or after the last: those hold the first and
     /// the last sample, as the channel's filter does).
-    fn at(&self, n: i64) -> &Quantities {
+    fn at(&self, n: i64) -> &[f64; Quantities::COUNT] {
         let newest = self.pushed.saturating_sub(1) as i64;
         let n = n.clamp(0, newest) as u64;
         &self.buf[(n % self.buf.len() as u64) as usize]
@@ -74,13 +75,15 @@ impl History {
     /// The five quantities interpolated at `n0 + frac`.
     fn interpolate(&self, n0: u64, frac: f64) -> Quantities {
         let start = n0 as i64 - HERMITE_LOOKBACK as i64;
-        let mut window = [[0.0; HERMITE_LOOKBACK + HERMITE_LOOKAHEAD + 1]; 5];
+        let mut window = [[0.0; HERMITE_LOOKBACK + HERMITE_LOOKAHEAD + 1]; Quantities::COUNT];
         for (j, n) in (start..=n0 as i64 + HERMITE_LOOKAHEAD as i64).enumerate() {
             for (q, v) in self.at(n).iter().enumerate() {
                 window[q][j] = *v;
             }
         }
-        std::array::from_fn(|q| hermite(frac, &window[q], HERMITE_LOOKBACK))
+        Quantities::from_columns(std::array::from_fn(|q| {
+            hermite(frac, &window[q], HERMITE_LOOKBACK)
+        }))
     }
 }
 
@@ -90,8 +93,8 @@ pub struct SensorTap {
     sensor: usize,
     channel: SensorChannel,
     history: History,
-    /// Index into `Quantities` of what the sensor measures.
-    pub measured_index: usize,
+    /// What the sensor measures of the quantities.
+    pub kind: SensorKind,
     faults: Option<FaultInjector>,
     labels: Vec<FaultLabel>,
     /// Sensor samples and fault labels, in time order.
@@ -105,12 +108,12 @@ pub struct SensorTap {
 
 impl SensorTap {
     /// A tap for sensor `sensor` around `channel` (built with the sensor's rate, chain
-    /// and clock), measuring quantity `measured_index` of [`Quantities`], with the
-    /// sensor's faults (`None`: none).
+    /// and clock), measuring what a sensor of `kind` measures, with the sensor's faults
+    /// (`None`: none).
     pub fn new(
         sensor: usize,
         channel: SensorChannel,
-        measured_index: usize,
+        kind: SensorKind,
         faults: Option<FaultInjector>,
     ) -> Self {
         let (_, width) = channel.window_geometry();
@@ -119,7 +122,7 @@ impl SensorTap {
             channel,
             // The channel's window reaches HERMITE_LOOKBACK (or more) samples behind n0.
             history: History::new(width),
-            measured_index,
+            kind,
             faults: faults.filter(FaultInjector::enabled),
             labels: Vec::with_capacity(4),
             ready: VecDeque::with_capacity(8),
@@ -162,7 +165,7 @@ impl SensorTap {
     /// Feeds one solver step of all quantities at the sensor's point.
     pub fn push(&mut self, values: &Quantities) {
         self.history.push(values);
-        let measured = values[self.measured_index];
+        let measured = values.measured_by(self.kind);
         self.hand_over(|channel, emit| channel.push(measured, emit));
     }
 

@@ -38,6 +38,7 @@ struct VehicleTrack {
 pub struct Tracker {
     span_m: f64,
     dt_ns: u64,
+    dt_s: f64,
     wim_positions_m: Vec<f64>,
     /// Each station's model and its random stream (`wim/<id>`).
     stations: Vec<(WimStation, ChaCha8Rng)>,
@@ -56,16 +57,11 @@ impl Tracker {
     pub fn new(resolved: &Resolved, span_m: f64) -> Result<Self> {
         let seed = resolved.scenario.seed;
         let models = resolved
-            .scenario
             .wim_stations
             .iter()
-            .enumerate()
-            .map(|(i, w)| {
-                let station = WimStation::new(&w.model, &format!("wim_stations.{i}.model"))?
-                    .with_limits(w.limits, &format!("wim_stations.{i}.limits"))?;
-                Ok((station, child_rng(seed, &format!("wim/{}", w.id))))
-            })
-            .collect::<Result<Vec<_>>>()?;
+            .zip(&resolved.scenario.wim_stations)
+            .map(|(station, w)| (station.clone(), child_rng(seed, &format!("wim/{}", w.id))))
+            .collect();
         let stations = resolved.scenario.wim_stations.len();
         let tracks: Vec<VehicleTrack> = resolved
             .vehicles
@@ -76,6 +72,7 @@ impl Tracker {
             stations: models,
             span_m,
             dt_ns: resolved.dt_ns,
+            dt_s: resolved.dt_s,
             wim_positions_m: resolved
                 .scenario
                 .wim_stations
@@ -93,7 +90,7 @@ impl Tracker {
 
     /// The axles of every vehicle on the road.
     pub fn axle_states(&self, solver: &CoupledSolver, step: u64) -> Vec<AxleState> {
-        let dt_s = self.dt_ns as f64 * 1e-9;
+        let dt_s = self.dt_s;
         let mut out = Vec::new();
         for v in solver.vehicles.iter().filter(|v| v.is_active()) {
             for (j, axle) in v.dynamics.axles.iter().enumerate() {
@@ -115,7 +112,7 @@ impl Tracker {
     /// Detects crossings since the previous step and queues the records they produce.
     pub fn observe(&mut self, solver: &CoupledSolver, step: u64, queue: &mut VecDeque<Record>) {
         let t_ns = step * self.dt_ns;
-        let dt_s = self.dt_ns as f64 * 1e-9;
+        let dt_s = self.dt_s;
         let mut x = std::mem::take(&mut self.x_m);
         for (v, track) in solver.vehicles.iter().zip(&mut self.tracks) {
             if !v.is_active() {

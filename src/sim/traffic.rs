@@ -22,6 +22,7 @@ pub struct Arrivals {
     generator: Option<TrafficGenerator>,
     /// `traffic.parameter_sd_rel`: the spread of each vehicle's springs and dampers.
     parameter_sd_rel: f64,
+    dt_ns: u64,
     dt_s: f64,
     approach_m: f64,
     span_m: f64,
@@ -46,7 +47,8 @@ impl Arrivals {
         Ok(Arrivals {
             generator,
             parameter_sd_rel,
-            dt_s: resolved.dt_ns as f64 * 1e-9,
+            dt_ns: resolved.dt_ns,
+            dt_s: resolved.dt_s,
             approach_m: s.road.approach_m,
             span_m: s.bridge.span_m,
         })
@@ -69,7 +71,7 @@ impl Arrivals {
             let (dynamics, note) = dynamics_of(&g, self.parameter_sd_rel);
             if let Some(text) = note {
                 events.push_back(Record::Event {
-                    t_ns: (step as f64 * self.dt_s * 1e9).round() as u64,
+                    t_ns: step * self.dt_ns,
                     level: EventLevel::Warning,
                     text,
                 });

@@ -138,7 +138,8 @@ fn run_one(run: &RunSpec, runs_dir: &Path, stop: &AtomicBool) -> Result<bool> {
         return Ok(false);
     }
     let mcap = runs_dir.join(format!("{}.mcap", run.id));
-    let resolved = run.scenario.resolve()?;
+    let mut resolved = run.scenario.resolve()?;
+    resolved.source_toml = run.toml.clone();
     let prepared = crate::sim::prepare(&resolved)?;
     let options = SinkOptions {
         force: true,
@@ -154,7 +155,6 @@ fn run_one(run: &RunSpec, runs_dir: &Path, stop: &AtomicBool) -> Result<bool> {
         &mut sink,
         &resolved,
         &prepared,
-        &run.toml,
         &mut control,
         WriterThread::Inline,
     ) {

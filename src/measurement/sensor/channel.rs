@@ -11,6 +11,7 @@ use super::resample::{field, filter, AntiAliasOptions, Rates};
 use super::schedule::{Due, OutputSchedule};
 use super::truth::{hermite, HERMITE_LOOKAHEAD, HERMITE_LOOKBACK};
 use super::SampleStage;
+use crate::base::rate::ExactRate;
 use crate::error::Result;
 
 /// What a channel records, in the caller's unit (m/s^2, strain, m).
@@ -25,6 +26,37 @@ pub struct ChannelSpec {
     /// White self-noise; default none.
     #[serde(default)]
     pub noise: WhiteNoise,
+}
+
+/// The fixed part of a channel: its rates and its anti-alias kernel (shared by every
+/// channel of the same design), validated and designed once, when the scenario is
+/// resolved. A run builds its stateful channels from it ([`SensorChannel::from_design`]).
+#[derive(Debug, Clone)]
+pub struct ChannelDesign {
+    rates: Rates,
+    kernel: Option<Arc<PolyphaseKernel>>,
+}
+
+impl ChannelDesign {
+    /// The design for output rate `rate_hz` from the solver rate `fs_in_hz` (a whole
+    /// number of ns per step) with filter `anti_alias`. Errors name
+    /// `<field_prefix>.rate_hz` and `<field_prefix>.anti_alias.*`.
+    pub fn new(
+        fs_in_hz: f64,
+        rate_hz: f64,
+        anti_alias: &AntiAliasOptions,
+        field_prefix: &str,
+    ) -> Result<Self> {
+        anti_alias.validate(&field(field_prefix, "anti_alias"))?;
+        let rates = Rates::new(fs_in_hz, rate_hz, field_prefix)?;
+        let kernel = rates.kernel(anti_alias, field_prefix)?;
+        Ok(Self { rates, kernel })
+    }
+
+    /// The output rate, exact.
+    pub fn rate(&self) -> ExactRate {
+        self.rates.out
+    }
 }
 
 /// One output sample: the instant (ns since the run start, exact `round(k * 1e9 / rate)`;
@@ -67,12 +99,20 @@ impl SensorChannel {
         rng: ChaCha8Rng,
         field_prefix: &str,
     ) -> Result<Self> {
-        spec.anti_alias
-            .validate(&field(field_prefix, "anti_alias"))?;
-        let noise_prefix = field(field_prefix, "noise");
-        spec.noise.validate(&noise_prefix)?;
-        let rates = Rates::new(fs_in_hz, spec.rate_hz, field_prefix)?;
-        let kernel = rates.kernel(&spec.anti_alias, field_prefix)?;
+        let design = ChannelDesign::new(fs_in_hz, spec.rate_hz, &spec.anti_alias, field_prefix)?;
+        Self::from_design(&design, &spec.noise, rng, &field(field_prefix, "noise"))
+    }
+
+    /// A channel of `design` with white self-noise `noise` drawn from `rng` (no draws
+    /// when the density is 0). Errors name `<noise_prefix>.*`.
+    pub fn from_design(
+        design: &ChannelDesign,
+        noise: &WhiteNoise,
+        rng: ChaCha8Rng,
+        noise_prefix: &str,
+    ) -> Result<Self> {
+        noise.validate(noise_prefix)?;
+        let ChannelDesign { rates, kernel } = design.clone();
         let (back, ahead) = match &kernel {
             Some(k) => (
                 k.half_width().max(HERMITE_LOOKBACK),
@@ -82,8 +122,8 @@ impl SensorChannel {
         };
         let mut stages: Vec<Box<dyn SampleStage>> = Vec::new();
         let mut noise_sigma = 0.0;
-        if spec.noise.density_per_sqrt_hz > 0.0 {
-            let source = WhiteNoiseSource::new(&spec.noise, rates.out.hz(), rng, &noise_prefix)?;
+        if noise.density_per_sqrt_hz > 0.0 {
+            let source = WhiteNoiseSource::new(noise, rates.out.hz(), rng, noise_prefix)?;
             noise_sigma = source.sigma();
             stages.push(Box::new(source));
         }

@@ -40,12 +40,11 @@ pub mod chain;
 mod channel;
 mod kaiser;
 mod noise;
-mod rate;
 mod resample;
 mod schedule;
 mod truth;
 
-pub use channel::{ChannelSample, ChannelSpec, SensorChannel};
+pub use channel::{ChannelDesign, ChannelSample, ChannelSpec, SensorChannel};
 pub use noise::{WhiteNoise, WhiteNoiseSource};
 pub use resample::{AntiAliasOptions, Resampler};
 pub use schedule::InstantSource;

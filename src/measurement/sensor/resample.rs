@@ -5,8 +5,8 @@ use std::sync::Arc;
 use serde::{Deserialize, Serialize};
 
 use super::kaiser::{KaiserDesign, PolyphaseKernel};
-use super::rate::{ExactRate, NS_PER_S};
 use super::schedule::OutputSchedule;
+use crate::base::rate::{ExactRate, NS_PER_S};
 use crate::error::{require_positive, Error, Result};
 
 /// Largest anti-alias kernel: 2^20 + 1 taps (about 8 MiB of ring buffer; reached near
@@ -45,6 +45,24 @@ pub struct AntiAliasOptions {
     /// linear interpolation between phases stays 40 dB below the stop-band ripple (512
     /// phases for 200 Hz out of 1 kHz at 80 dB).
     pub table_phases: Option<usize>,
+}
+
+impl AntiAliasOptions {
+    /// The filter's gain at `f_hz` for output rate `rate_hz`, approximated: 1 in the pass
+    /// band (ripple ~1e-4), 0 from the stop-band edge (80 dB down), a raised cosine
+    /// between (the shape of the Kaiser design's transition). Used for signals picked up
+    /// before the filter that the chain adds after it (mains hum).
+    pub fn approximate_gain(&self, rate_hz: f64, f_hz: f64) -> f64 {
+        let pass = self.passband_edge_fraction * rate_hz;
+        let stop = self.stopband_edge_fraction * rate_hz;
+        if f_hz <= pass {
+            1.0
+        } else if f_hz >= stop {
+            0.0
+        } else {
+            0.5 * (1.0 + (std::f64::consts::PI * (f_hz - pass) / (stop - pass)).cos())
+        }
+    }
 }
 
 impl Default for AntiAliasOptions {

@@ -11,7 +11,7 @@
 //! With a DAQ clock ([`InstantSource`]) the instants are the node's true sampling instants
 //! instead (drifting, jittered), and each output also carries the node's stamp.
 
-use super::rate::ExactRate;
+use crate::base::rate::ExactRate;
 
 /// The latest `cap` values, contiguous in memory: each value is written twice, at `head`
 /// and `head + cap`, so the window ending at the newest value is one slice.

@@ -10,9 +10,9 @@
 //! O(dt^4); the interpolant is C1 (each node's slope is shared by both intervals). Needs
 //! solver samples `n0 - 2 ..= n0 + 3`: 3 steps of latency.
 
-use super::rate::ExactRate;
 use super::resample::Rates;
 use super::schedule::OutputSchedule;
+use crate::base::rate::ExactRate;
 use crate::error::Result;
 
 /// Samples needed before the output interval.

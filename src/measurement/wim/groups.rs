@@ -1,29 +1,11 @@
 //! Axle groups and the axle pattern ("1-1-3") a WIM system derives from axle spacings.
 
-use std::ops::Range;
-
 /// Largest spacing between two axles of one group, m: axles closer than this form a tandem
 /// or tridem (SENSORS.md section 3; EU Directive 96/53/EC also counts axles under 2.0 m as
 /// a tandem, 1.3-1.8 m being typical).
 pub const GROUP_SPACING_MAX_M: f64 = 2.1;
 
-/// Consecutive axles less than [`GROUP_SPACING_MAX_M`] apart, with their summed load.
-#[derive(Debug, Clone, PartialEq)]
-pub struct AxleGroup {
-    /// Index of the group's front axle (0 = the vehicle's front axle).
-    pub first_axle: usize,
-    /// Number of axles in the group (>= 1).
-    pub axle_count: usize,
-    /// Sum of the group's axle loads, N.
-    pub load_n: f64,
-}
-
-impl AxleGroup {
-    /// Indices of the group's axles.
-    pub fn axles(&self) -> Range<usize> {
-        self.first_axle..self.first_axle + self.axle_count
-    }
-}
+pub use crate::record::AxleGroup;
 
 /// Groups of axles with loads `axle_load_n` and spacings `axle_spacing_m` (one fewer): a
 /// spacing strictly below `group_spacing_max_m` joins two axles into one group.

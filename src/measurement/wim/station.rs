@@ -5,10 +5,11 @@ use rand_chacha::ChaCha8Rng;
 use rand_distr::StandardNormal;
 
 use super::fhwa::fhwa_class;
-use super::groups::{axle_groups, axle_pattern, AxleGroup, GROUP_SPACING_MAX_M};
+use super::groups::{axle_groups, axle_pattern, GROUP_SPACING_MAX_M};
 use super::physics::strip_errors;
 use super::spec::{Model, WimLimits, WimModelSpec};
 use crate::error::Result;
+pub use crate::record::{AppliedErrors, LoadReference, WimMeasurement};
 
 /// Flag: another vehicle was on the station at the same time.
 pub const FLAG_MULTIPLE_PRESENCE: &str = "multiple_presence";
@@ -35,56 +36,6 @@ pub struct WimPassage {
     pub dynamic_axle_load_n: Vec<f64>,
     /// Another vehicle was on the station at the same time (the simulation decides).
     pub multiple_presence: bool,
-}
-
-/// The load a model's errors are relative to.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum LoadReference {
-    /// The static axle loads (`cost323`: the classes are defined against static weights).
-    Static,
-    /// The dynamic tyre force at the strip (`physics`, `ideal`).
-    Dynamic,
-}
-
-/// The errors a station applied to one vehicle: truth for scoring, unknown to a real WIM.
-#[derive(Debug, Clone, PartialEq)]
-pub struct AppliedErrors {
-    /// What the load errors are relative to.
-    pub reference: LoadReference,
-    /// Relative speed error (spacings carry the same).
-    pub speed_rel: f64,
-    /// Relative error of the gross weight against the reference gross weight.
-    pub gross_rel: f64,
-    /// Relative error of each axle load against its reference, front to rear.
-    pub axle_rel: Vec<f64>,
-}
-
-/// One vehicle as a WIM station reports it.
-#[derive(Debug, Clone, PartialEq)]
-pub struct WimMeasurement {
-    pub vehicle_id: u32,
-    pub lane: u32,
-    /// Time the first axle crossed the strip, ns since the run start.
-    pub t_ns: u64,
-    /// Measured speed, m/s.
-    pub speed_m_s: f64,
-    /// Measured spacings (true spacing scaled by the speed error), front to rear, m.
-    pub axle_spacing_m: Vec<f64>,
-    /// Measured axle loads, front to rear, N.
-    pub axle_load_n: Vec<f64>,
-    /// Sum of the measured axle loads, N.
-    pub gross_weight_n: f64,
-    /// Axle groups from the measured spacings, with measured loads.
-    pub groups: Vec<AxleGroup>,
-    /// Group sizes, e.g. "1-1-3".
-    pub axle_pattern: String,
-    /// FHWA 13-class class from the measured values, `None` if undecided.
-    pub fhwa_class: Option<u8>,
-    /// Quality flags, sorted: [`FLAG_LOW_SPEED`], [`FLAG_MULTIPLE_PRESENCE`],
-    /// [`FLAG_OFF_SCALE`].
-    pub flags: Vec<&'static str>,
-    /// The errors applied (truth).
-    pub truth: AppliedErrors,
 }
 
 /// A validated station model with its flag limits.

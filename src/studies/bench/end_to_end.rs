@@ -11,9 +11,10 @@ use std::hint::black_box;
 use serde::Serialize;
 
 use super::timing::median_wall_s;
+use crate::app::pipeline;
 use crate::app::run::WriterThread;
 use crate::error::Result;
-use crate::output::{pipeline, McapRecorder, McapSink, SinkOptions};
+use crate::output::{McapRecorder, McapSink, SinkOptions};
 use crate::scenario::{Layout, Resolved, Scenario};
 use crate::sim::{prepare, run, Prepared, Record, Recorder, VecRecorder};
 
@@ -53,10 +54,10 @@ pub fn write_mcap(
     thread: WriterThread,
 ) -> Result<usize> {
     let mut sink = McapSink::in_memory(&SinkOptions::default())?;
-    let nodes = prepared.model.shape_positions_m().to_vec();
-    let mut recorder = McapRecorder::new(&mut sink, resolved, nodes)?;
+    let mut recorder = McapRecorder::new(&mut sink);
     match records {
         Some(records) => {
+            recorder.begin(&crate::sim::manifest(resolved, prepared)?)?;
             for r in records {
                 recorder.record(r.clone())?;
             }

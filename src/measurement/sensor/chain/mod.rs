@@ -11,7 +11,8 @@
 //! A [`SensorPreset`] gives datasheet-class values per sensor type; a [`ChainSpec`]
 //! (`[sensors.chain]`) overrides them field by field and switches stages on or off;
 //! [`resolve`] merges and validates both into a [`ResolvedChain`], whose
-//! [`ResolvedChain::stages`] builds the [`SampleStage`](crate::measurement::sensor::SampleStage)s to
+//! [`ResolvedChain::realise`] draws one sensor's values into a [`RealisedChain`],
+//! whose [`RealisedChain::stages`] builds the [`SampleStage`](crate::measurement::sensor::SampleStage)s to
 //! append to the sensor's channel.
 //!
 //! # Why the analog stages run at the output rate
@@ -75,8 +76,8 @@ pub use preset::{
     DEFAULT_FLICKER_LOWEST_HZ, REFERENCE_TEMPERATURE_DEGC, STANDARD_GRAVITY_M_S2,
 };
 pub use resolve::{
-    resolve, ChainStages, ResolvedChain, DEFAULT_HUM_FREQUENCY_HZ, MAX_GAIN_ERROR_SIGMA,
-    MIN_FLICKER_LOWEST_HZ,
+    resolve, ChainStages, RealisedChain, ResolvedChain, DEFAULT_HUM_FREQUENCY_HZ,
+    MAX_GAIN_ERROR_SIGMA, MIN_FLICKER_LOWEST_HZ,
 };
 pub use spec::{AdcSpec, ChainSpec, CouplingSpec, HumSpec};
 pub use stages::{DcOffset, Gain, HighPass, Hum, SelfNoise, TemperatureFn};

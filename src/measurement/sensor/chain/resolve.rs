@@ -40,17 +40,89 @@ pub struct ResolvedChain {
     field_prefix: String,
 }
 
-/// The stages of one sensor, ready to append to its channel in order, with the realised
-/// parameters and the ADC's clip counter.
+/// One sensor's chain with its values drawn (bias, gain error, hum phase) and its hum
+/// scaled by the channel's anti-alias gain: a description, realised once when the
+/// scenario is resolved, from which a run builds the running stages.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RealisedChain {
+    chain: ResolvedChain,
+    fs_out_hz: f64,
+    /// DC coupling: the bias (0 with AC coupling).
+    bias: f64,
+    gain_error: f64,
+    hum: Option<Hum>,
+    /// [`ResolvedChain::parameters`] plus the values drawn for this sensor.
+    parameters: Vec<(String, f64)>,
+}
+
+impl RealisedChain {
+    /// [`ResolvedChain::parameters`] plus the values drawn for this sensor
+    /// (`gain_error`, `bias`, `hum_phase_rad` where random) and the hum amplitude after
+    /// the anti-alias filter: what the channel metadata reports.
+    pub fn parameters(&self) -> &[(String, f64)] {
+        &self.parameters
+    }
+
+    /// The chain it was realised from.
+    pub fn chain(&self) -> &ResolvedChain {
+        &self.chain
+    }
+
+    /// Builds the enabled stages in chain order; the self-noise draws from
+    /// `rng_for("noise")` and `rng_for("flicker")`, and `temperature_degc(t_ns)` drives
+    /// the DC bias drift.
+    pub fn stages(
+        &self,
+        rng_for: &mut dyn FnMut(&str) -> ChaCha8Rng,
+        temperature_degc: TemperatureFn,
+    ) -> Result<ChainStages> {
+        let p = &self.chain.parameters;
+        let fs_out_hz = self.fs_out_hz;
+        let mut stages: Vec<Box<dyn SampleStage>> = Vec::new();
+        match p.coupling {
+            Coupling::Ac { highpass_hz } => {
+                stages.push(Box::new(HighPass::new(highpass_hz, fs_out_hz)));
+            }
+            Coupling::Dc {
+                bias_tempco_per_degc,
+                ..
+            } => {
+                if self.bias != 0.0 || bias_tempco_per_degc != 0.0 {
+                    let dc = DcOffset::new(self.bias, bias_tempco_per_degc, temperature_degc);
+                    stages.push(Box::new(dc));
+                }
+            }
+        }
+        if self.gain_error != 0.0 {
+            stages.push(Box::new(Gain::new(self.gain_error)));
+        }
+        if p.noise_density > 0.0 {
+            stages.push(Box::new(self.chain.self_noise(fs_out_hz, rng_for)?));
+        }
+        if let Some(hum) = &self.hum {
+            stages.push(Box::new(hum.clone()));
+        }
+        let clipped = ClipCounter::default();
+        if let Some(adc) = p.adc {
+            stages.push(Box::new(Quantiser::new(&adc, clipped.clone())));
+        }
+        Ok(ChainStages {
+            stages,
+            clipped,
+            parameters: self.parameters.clone(),
+        })
+    }
+}
+
+/// The stages of one sensor, ready to append to its channel in order, with the ADC's
+/// clip counter.
 #[derive(Debug)]
 pub struct ChainStages {
     /// Enabled stages in chain order: transfer function, gain, self-noise, hum, ADC.
     pub stages: Vec<Box<dyn SampleStage>>,
     /// Samples clipped by the ADC (stays 0 without an ADC).
     pub clipped: ClipCounter,
-    /// [`ResolvedChain::parameters`] plus the values drawn for this sensor
-    /// (`gain_error`, `bias`, `hum_phase_rad` where random) and the hum amplitude after
-    /// the anti-alias filter.
+    /// The values the stages were built from ([`RealisedChain::parameters`]).
     pub parameters: Vec<(String, f64)>,
 }
 
@@ -399,14 +471,44 @@ impl ResolvedChain {
         out
     }
 
-    /// Builds the enabled stages for output rate `fs_out_hz`, drawing the per-sensor
-    /// values and noise from `rng_for(name)`, one stream per stage (`"bias"`, `"gain"`,
-    /// `"noise"`, `"flicker"`, `"hum"`), so switching a stage on or off never changes
-    /// another's numbers. `temperature_degc(t_ns)` drives the DC bias drift;
-    /// `aa_gain_at_hz(f)` is the channel's anti-alias gain, applied to the hum, which is
-    /// picked up before the filter. Errors name `<prefix>.rate_hz` and the chain fields
-    /// that do not fit the rate (see [`ResolvedChain::check_rate`], without the preset's
-    /// maximum).
+    /// Draws this sensor's values for output rate `fs_out_hz`: the DC bias and the gain
+    /// error (when the preset gives a sigma) and the hum phase (when not fixed), each from
+    /// its own stream `rng_for(name)` (`"bias"`, `"gain"`, `"hum"`), and scales the hum by
+    /// the channel's anti-alias gain `aa_gain_at_hz(f)` (the hum is picked up before the
+    /// filter). Errors name `<prefix>.rate_hz` and the chain fields that do not fit the
+    /// rate (see [`ResolvedChain::check_rate`], without the preset's maximum).
+    pub fn realise(
+        &self,
+        fs_out_hz: f64,
+        rng_for: &mut dyn FnMut(&str) -> ChaCha8Rng,
+        aa_gain_at_hz: &dyn Fn(f64) -> f64,
+    ) -> Result<RealisedChain> {
+        require_positive(&field(&self.field_prefix, "rate_hz"), fs_out_hz)?;
+        self.check_rate_dependent(fs_out_hz)?;
+        let p = &self.parameters;
+        let mut parameters = self.parameters();
+        let mut realised = |name: &str, v: f64| parameters.push((name.to_string(), v));
+        let bias = match p.coupling {
+            Coupling::Ac { .. } => 0.0,
+            Coupling::Dc { bias, .. } => realise(bias, "bias", rng_for, &mut realised),
+        };
+        let gain_error = realise(p.gain_error, "gain", rng_for, &mut realised);
+        let hum = match p.hum {
+            Some(h) => Some(hum(&h, rng_for, aa_gain_at_hz, &mut realised)?),
+            None => None,
+        };
+        Ok(RealisedChain {
+            chain: self.clone(),
+            fs_out_hz,
+            bias,
+            gain_error,
+            hum,
+            parameters,
+        })
+    }
+
+    /// [`ResolvedChain::realise`] then [`RealisedChain::stages`]: the stages in one call
+    /// (the noise draws from `rng_for("noise")` and `rng_for("flicker")`).
     pub fn stages(
         &self,
         fs_out_hz: f64,
@@ -414,46 +516,8 @@ impl ResolvedChain {
         temperature_degc: TemperatureFn,
         aa_gain_at_hz: &dyn Fn(f64) -> f64,
     ) -> Result<ChainStages> {
-        require_positive(&field(&self.field_prefix, "rate_hz"), fs_out_hz)?;
-        self.check_rate_dependent(fs_out_hz)?;
-        let p = &self.parameters;
-        let mut stages: Vec<Box<dyn SampleStage>> = Vec::new();
-        let mut parameters = self.parameters();
-        let mut realised = |name: &str, v: f64| parameters.push((name.to_string(), v));
-        match p.coupling {
-            Coupling::Ac { highpass_hz } => {
-                stages.push(Box::new(HighPass::new(highpass_hz, fs_out_hz)));
-            }
-            Coupling::Dc {
-                bias,
-                bias_tempco_per_degc,
-            } => {
-                let b = realise(bias, "bias", rng_for, &mut realised);
-                if b != 0.0 || bias_tempco_per_degc != 0.0 {
-                    let dc = DcOffset::new(b, bias_tempco_per_degc, temperature_degc);
-                    stages.push(Box::new(dc));
-                }
-            }
-        }
-        let g = realise(p.gain_error, "gain", rng_for, &mut realised);
-        if g != 0.0 {
-            stages.push(Box::new(Gain::new(g)));
-        }
-        if p.noise_density > 0.0 {
-            stages.push(Box::new(self.self_noise(fs_out_hz, rng_for)?));
-        }
-        if let Some(h) = p.hum {
-            stages.push(Box::new(hum(&h, rng_for, aa_gain_at_hz, &mut realised)?));
-        }
-        let clipped = ClipCounter::default();
-        if let Some(adc) = p.adc {
-            stages.push(Box::new(Quantiser::new(&adc, clipped.clone())));
-        }
-        Ok(ChainStages {
-            stages,
-            clipped,
-            parameters,
-        })
+        self.realise(fs_out_hz, rng_for, aa_gain_at_hz)?
+            .stages(rng_for, temperature_degc)
     }
 
     fn self_noise(

@@ -144,7 +144,7 @@ impl SampleStage for SelfNoise {
 /// Mains hum `amplitude sin(2 pi f t + phase)`, with `amplitude` already scaled by the
 /// anti-alias filter's gain at `f`. Sampled at the output instants it aliases exactly as
 /// the filter's residual at `f` would.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Hum {
     frequency_hz: f64,
     amplitude: f64,

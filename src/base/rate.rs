@@ -4,7 +4,7 @@
 use crate::error::{require_positive, Error, Result};
 
 /// Nanoseconds per second.
-pub(crate) const NS_PER_S: u128 = 1_000_000_000;
+pub const NS_PER_S: u128 = 1_000_000_000;
 
 /// Largest denominator of the fraction that stands for a rate. Every rate written with up
 /// to six decimals (`51.2 = 256 / 5`) or as a simple fraction (`1000 / 3`) is exact; any
@@ -17,14 +17,14 @@ const MAX_RATE_HZ: f64 = 1e9;
 
 /// A sample rate `num / den` Hz, reduced, with `num, den > 0`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) struct ExactRate {
+pub struct ExactRate {
     num: u128,
     den: u128,
 }
 
 impl ExactRate {
     /// The fraction standing for `rate_hz`; `field` names the value in errors.
-    pub(crate) fn from_hz(field: &str, rate_hz: f64) -> Result<Self> {
+    pub fn from_hz(field: &str, rate_hz: f64) -> Result<Self> {
         require_positive(field, rate_hz)?;
         if rate_hz > MAX_RATE_HZ {
             return Err(Error::invalid(
@@ -45,20 +45,20 @@ impl ExactRate {
     }
 
     /// The rate in Hz as a float.
-    pub(crate) fn hz(&self) -> f64 {
+    pub fn hz(&self) -> f64 {
         self.num as f64 / self.den as f64
     }
 
     /// `round(k * 1e9 / rate)` in integer arithmetic, halves rounded up. Saturates at
     /// `u64::MAX` (a run of 584 years).
-    pub(crate) fn instant_ns(&self, k: u64) -> u64 {
+    pub fn instant_ns(&self, k: u64) -> u64 {
         // k < 2^64, 1e9 < 2^30, den <= 2^24: the numerator stays below 2^120.
         let twice = 2 * u128::from(k) * NS_PER_S * self.den + self.num;
         u64::try_from(twice / (2 * self.num)).unwrap_or(u64::MAX)
     }
 
     /// The period in ns if it is a whole number of nanoseconds.
-    pub(crate) fn whole_period_ns(&self) -> Option<u64> {
+    pub fn whole_period_ns(&self) -> Option<u64> {
         let numerator = NS_PER_S * self.den;
         if numerator.is_multiple_of(self.num) {
             u64::try_from(numerator / self.num).ok()
@@ -67,8 +67,19 @@ impl ExactRate {
         }
     }
 
+    /// The period rounded to whole ns, halves up (what a block message carries as its
+    /// nominal sample spacing).
+    pub fn period_ns_rounded(&self) -> u64 {
+        self.instant_ns(1)
+    }
+
+    /// `round(n * 1e9 / rate)`: the nominal time spanned by `n` sample periods, ns.
+    pub fn span_ns(&self, n: u64) -> u64 {
+        self.instant_ns(n)
+    }
+
     /// Ordering of two rates, exact.
-    pub(crate) fn cmp_rate(&self, other: &Self) -> std::cmp::Ordering {
+    pub fn cmp_rate(&self, other: &Self) -> std::cmp::Ordering {
         (self.num * other.den).cmp(&(other.num * self.den))
     }
 }

@@ -18,7 +18,7 @@
 use std::sync::mpsc::{sync_channel, Receiver, SyncSender, TryRecvError};
 
 use crate::error::{Error, Result};
-use crate::sim::{Record, Recorder};
+use crate::record::{Record, Recorder, RunManifest};
 
 /// Records per hand-over: large enough that the channel costs nothing per record, small
 /// enough that the writer starts early.
@@ -38,15 +38,17 @@ where
 {
     let (full_tx, full_rx) = sync_channel::<Vec<Record>>(BATCHES_IN_FLIGHT);
     let (empty_tx, empty_rx) = sync_channel::<Vec<Record>>(BATCHES_IN_FLIGHT + 2);
+    let (manifest_tx, manifest_rx) = sync_channel::<Box<RunManifest>>(1);
     std::thread::scope(|scope| {
         let handle = std::thread::Builder::new()
             .name("bridgetwin-writer".into())
-            .spawn_scoped(scope, move || drain(writer, full_rx, empty_tx))
+            .spawn_scoped(scope, move || drain(writer, manifest_rx, full_rx, empty_tx))
             .map_err(|e| Error::Output {
                 path: "writer thread".into(),
                 reason: e.to_string(),
             })?;
         let mut handoff = Handoff {
+            manifest: Some(manifest_tx),
             batch: Vec::with_capacity(BATCH_RECORDS),
             full: Some(full_tx),
             empty: empty_rx,
@@ -64,12 +66,19 @@ where
     })
 }
 
-/// The writer thread: records every batch, returns emptied batches, then finishes.
+/// The writer thread: takes the manifest, records every batch, returns emptied batches,
+/// then finishes. A producer that stops before its manifest leaves the writer untouched.
 fn drain<R: Recorder>(
     mut writer: R,
+    manifest: Receiver<Box<RunManifest>>,
     full: Receiver<Vec<Record>>,
     empty: SyncSender<Vec<Record>>,
 ) -> Result<R> {
+    let Ok(manifest) = manifest.recv() else {
+        return Ok(writer);
+    };
+    writer.begin(&manifest)?;
+    drop(manifest);
     for mut batch in full {
         for record in batch.drain(..) {
             writer.record(record)?;
@@ -81,8 +90,10 @@ fn drain<R: Recorder>(
     Ok(writer)
 }
 
-/// The time loop's side: fills a batch and sends it when full; `finish` sends the rest.
+/// The time loop's side: hands the manifest over, fills a batch and sends it when full;
+/// `finish` sends the rest.
 struct Handoff {
+    manifest: Option<SyncSender<Box<RunManifest>>>,
     batch: Vec<Record>,
     full: Option<SyncSender<Vec<Record>>>,
     empty: Receiver<Vec<Record>>,
@@ -110,7 +121,24 @@ impl Handoff {
 }
 
 impl Recorder for Handoff {
+    fn begin(&mut self, manifest: &RunManifest) -> Result<()> {
+        let stopped = || Error::Output {
+            path: "writer thread".into(),
+            reason: "stopped before the run began".into(),
+        };
+        let sender = self.manifest.take().ok_or_else(stopped)?;
+        sender
+            .send(Box::new(manifest.clone()))
+            .map_err(|_| stopped())
+    }
+
     fn record(&mut self, record: Record) -> Result<()> {
+        if self.manifest.is_some() {
+            return Err(Error::Output {
+                path: "writer thread".into(),
+                reason: "a record arrived before the run manifest (Recorder::begin)".into(),
+            });
+        }
         self.batch.push(record);
         if self.batch.len() >= BATCH_RECORDS {
             self.send()?;
@@ -131,7 +159,7 @@ impl Recorder for Handoff {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sim::{EventLevel, VecRecorder};
+    use crate::record::{EventLevel, VecRecorder};
 
     fn event(t_ns: u64) -> Record {
         Record::Event {
@@ -145,6 +173,7 @@ mod tests {
     fn records_arrive_in_order_and_complete() {
         let n = 3 * BATCH_RECORDS as u64 + 17;
         let ((), got) = record_in_background(VecRecorder::default(), |r| {
+            r.begin(&RunManifest::minimal())?;
             for t in 0..n {
                 r.record(event(t))?;
             }
@@ -174,6 +203,7 @@ mod tests {
     fn the_writer_error_is_returned_and_stops_the_producer() {
         let mut produced = 0u64;
         let outcome = record_in_background(Failing(0), |r| {
+            r.begin(&RunManifest::minimal())?;
             for t in 0..1_000_000 {
                 r.record(event(t))?;
                 produced += 1;

@@ -1,0 +1,264 @@
+//! The channels of a run and its metadata records, registered from the run manifest
+//! alone: units, rates, positions, the realised chain values and the clocks become
+//! channel metadata; the run, the scenario and the model become metadata records; the
+//! scenario as written and the road profile become attachments.
+
+use std::collections::BTreeMap;
+use std::io::{Seek, Write};
+
+use super::blocks::{OpenBlock, Stream};
+use super::proto::foxglove::Log;
+use super::proto::v1::{
+    AccelerationSample, AxleLoads, BridgeState, DisplacementSample, FaultInterval, SampleBlock,
+    SensorTruth, SensorTruthBlock, StrainSample, VehicleTruth, WimRecord,
+};
+use super::{metadata, ChannelId, McapSink, Topics};
+use crate::error::Result;
+use crate::record::{Layout, RunManifest, SensorChannelInfo, SensorKind};
+
+/// The channels of one sensor.
+pub(super) struct SensorChannels {
+    pub kind: SensorKind,
+    pub id: String,
+    pub measured: ChannelId,
+    pub truth: ChannelId,
+    /// Block layout only: the truth samples waiting to fill the next block.
+    pub block: Option<OpenBlock>,
+    /// Block layout only: the measured samples waiting to fill the next block.
+    pub measured_block: Option<OpenBlock>,
+}
+
+impl SensorChannels {
+    /// The open blocks (none in the sample layout).
+    pub fn open_blocks(&mut self) -> impl Iterator<Item = &mut OpenBlock> {
+        self.block.iter_mut().chain(self.measured_block.iter_mut())
+    }
+}
+
+/// Every channel of a run.
+pub(super) struct Channels {
+    pub sensors: Vec<SensorChannels>,
+    pub axle_loads: ChannelId,
+    pub bridge: ChannelId,
+    pub vehicles: ChannelId,
+    /// Per station: (id, channel, model label as written in its records).
+    pub wim: Vec<(String, ChannelId, String)>,
+    pub events: ChannelId,
+    /// `/truth/faults`, registered when some sensor has faults configured.
+    pub faults: Option<ChannelId>,
+}
+
+/// Writes the run's metadata records and attachments, then registers every channel.
+pub(super) fn register<W: Write + Seek>(
+    sink: &mut McapSink<W>,
+    manifest: &RunManifest,
+) -> Result<Channels> {
+    write_metadata(sink, manifest)?;
+    let sensors = manifest
+        .sensors
+        .iter()
+        .map(|s| sensor_channels(sink, manifest, s))
+        .collect::<Result<Vec<_>>>()?;
+    let axle_rate = format!("{}", manifest.rates.axle_load_rate_hz);
+    let axle_loads = sink.add_channel::<AxleLoads>(
+        Topics::AXLE_LOADS,
+        metadata([
+            ("unit", "N"),
+            ("sample_rate_hz", axle_rate.as_str()),
+            ("sign", "force on the road positive"),
+        ]),
+    )?;
+    let bridge_rate = format!("{}", manifest.rates.bridge_state_rate_hz);
+    let bridge = sink.add_channel::<BridgeState>(
+        Topics::BRIDGE,
+        metadata([
+            ("unit", "m"),
+            ("sample_rate_hz", bridge_rate.as_str()),
+            ("sign", "deflection downward positive"),
+        ]),
+    )?;
+    let vehicles = sink.add_channel::<VehicleTruth>(
+        Topics::VEHICLES,
+        metadata([("content", "one record per vehicle")]),
+    )?;
+    let mut wim = Vec::new();
+    for w in &manifest.wim_stations {
+        let position = format!("{}", w.position_m);
+        let ch = sink.add_channel::<WimRecord>(
+            &Topics::wim(&w.id)?,
+            metadata([
+                ("position_m", position.as_str()),
+                ("station_model", w.model.as_str()),
+            ]),
+        )?;
+        wim.push((w.id.clone(), ch, w.model.clone()));
+    }
+    let events = sink.add_channel::<Log>(Topics::EVENTS, BTreeMap::new())?;
+    let faults = match manifest.has_faults() {
+        true => Some(sink.add_channel::<FaultInterval>(
+            Topics::FAULTS,
+            metadata([("content", "one record per fault interval, at its start")]),
+        )?),
+        false => None,
+    };
+    Ok(Channels {
+        sensors,
+        axle_loads,
+        bridge,
+        vehicles,
+        wim,
+        events,
+        faults,
+    })
+}
+
+/// The metadata records `bridgetwin`, `scenario`, `bridge_model` and the attachments
+/// `scenario.toml` (as the user wrote it) and `road_profile.csv`.
+fn write_metadata<W: Write + Seek>(sink: &mut McapSink<W>, manifest: &RunManifest) -> Result<()> {
+    let run = &manifest.run;
+    sink.write_metadata(
+        "bridgetwin",
+        BTreeMap::from([
+            ("version".to_string(), env!("CARGO_PKG_VERSION").to_string()),
+            (
+                "git_revision".to_string(),
+                option_env!("BRIDGETWIN_GIT_REVISION")
+                    .unwrap_or("unknown")
+                    .to_string(),
+            ),
+            ("seed".to_string(), run.seed.to_string()),
+            ("start_time".to_string(), run.start_time.clone()),
+        ]),
+    )?;
+    sink.write_metadata(
+        "scenario",
+        BTreeMap::from([("toml".to_string(), run.scenario_toml.clone())]),
+    )?;
+    let b = &manifest.bridge;
+    let freqs: Vec<String> = b
+        .natural_frequencies_hz
+        .iter()
+        .map(|f| format!("{f:.6}"))
+        .collect();
+    sink.write_metadata(
+        "bridge_model",
+        BTreeMap::from([
+            ("model".to_string(), b.model.clone()),
+            ("natural_frequencies_hz".to_string(), freqs.join(",")),
+            ("damping_ratio".to_string(), b.damping_ratio.to_string()),
+            (
+                "rayleigh_a0_per_s".to_string(),
+                b.rayleigh_a0_per_s.to_string(),
+            ),
+            ("rayleigh_a1_s".to_string(), b.rayleigh_a1_s.to_string()),
+            (
+                "flexural_rigidity_n_m2".to_string(),
+                b.flexural_rigidity_n_m2.to_string(),
+            ),
+            (
+                "mass_per_length_kg_m".to_string(),
+                b.mass_per_length_kg_m.to_string(),
+            ),
+            ("span_m".to_string(), b.span_m.to_string()),
+            ("road".to_string(), manifest.road.description.clone()),
+        ]),
+    )?;
+    let start = run.start_time_ns;
+    sink.attach(
+        "scenario.toml",
+        "application/toml",
+        run.source_toml.as_bytes(),
+        start,
+    )?;
+    sink.attach(
+        "road_profile.csv",
+        "text/csv",
+        manifest.road.csv.as_bytes(),
+        start,
+    )
+}
+
+/// The channel metadata of one sensor: what a user needs to interpret its samples.
+fn sensor_metadata(manifest: &RunManifest, sensor: &SensorChannelInfo) -> BTreeMap<String, String> {
+    let rate = format!("{}", sensor.rate_hz);
+    let position = format!("{}", sensor.position_m);
+    let density = format!("{}", sensor.noise_density_per_sqrt_hz);
+    let layout_name = match manifest.layout {
+        Layout::Sample => "sample".to_string(),
+        Layout::Block => format!("block of {} samples", manifest.block_samples),
+    };
+    let mut meta = metadata([
+        ("unit", sensor.kind.unit()),
+        ("sample_rate_hz", rate.as_str()),
+        ("position_m", position.as_str()),
+        ("sensor_model", sensor.model.as_str()),
+        ("noise_density_per_sqrt_hz", density.as_str()),
+        ("sign", "downward positive (strain: tension positive)"),
+        ("layout", layout_name.as_str()),
+    ]);
+    for (name, value) in &sensor.chain {
+        meta.insert(format!("chain.{name}"), format!("{value}"));
+    }
+    if let Some(clock) = &sensor.clock {
+        meta.insert("daq_node".into(), clock.node_id.clone());
+        meta.insert("nominal_sample_rate_hz".into(), rate.clone());
+        meta.insert(
+            "true_sample_rate_hz".into(),
+            format!("{}", clock.true_rate_hz),
+        );
+        meta.insert("clock_drift_ppm".into(), format!("{}", clock.drift_ppm));
+        meta.insert("clock_offset_s".into(), format!("{}", clock.offset_s));
+        meta.insert(
+            "timestamps".into(),
+            "measured: node clock; truth: true time (node_timestamp holds the node's)".into(),
+        );
+    }
+    if let Some(depth) = sensor.gauge_depth_m {
+        meta.insert("gauge_depth_m".into(), format!("{depth}"));
+    }
+    meta
+}
+
+/// Registers the measured and truth channels of one sensor in the run's layout.
+fn sensor_channels<W: Write + Seek>(
+    sink: &mut McapSink<W>,
+    manifest: &RunManifest,
+    sensor: &SensorChannelInfo,
+) -> Result<SensorChannels> {
+    let layout = manifest.layout;
+    let mut meta = sensor_metadata(manifest, sensor);
+    let topic = match sensor.kind {
+        SensorKind::Accelerometer => Topics::accel(&sensor.id)?,
+        SensorKind::Strain => Topics::strain(&sensor.id)?,
+        SensorKind::Displacement => Topics::disp(&sensor.id)?,
+    };
+    let measured = match (layout, sensor.kind) {
+        (Layout::Block, _) => sink.add_channel::<SampleBlock>(&topic, meta.clone())?,
+        (_, SensorKind::Accelerometer) => {
+            sink.add_channel::<AccelerationSample>(&topic, meta.clone())?
+        }
+        (_, SensorKind::Strain) => sink.add_channel::<StrainSample>(&topic, meta.clone())?,
+        (_, SensorKind::Displacement) => {
+            sink.add_channel::<DisplacementSample>(&topic, meta.clone())?
+        }
+    };
+    meta.insert(
+        "sensor_model".into(),
+        "truth (noise-free, unfiltered, true time)".into(),
+    );
+    let truth_topic = Topics::truth_sensor(&sensor.id)?;
+    let truth = match layout {
+        Layout::Sample => sink.add_channel::<SensorTruth>(&truth_topic, meta)?,
+        Layout::Block => sink.add_channel::<SensorTruthBlock>(&truth_topic, meta)?,
+    };
+    let blocked = layout == Layout::Block;
+    let block = |stream| OpenBlock::new(stream, sensor.rate, manifest.block_samples);
+    Ok(SensorChannels {
+        kind: sensor.kind,
+        id: sensor.id.clone(),
+        measured,
+        truth,
+        block: blocked.then(|| block(Stream::Truth)),
+        measured_block: blocked.then(|| block(Stream::Measured)),
+    })
+}

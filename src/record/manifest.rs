@@ -1,0 +1,181 @@
+//! The run manifest: everything an output needs to know before the first record, as
+//! the run realised it (rates, units, positions, the chain values drawn for each sensor,
+//! the clocks' true rates, the model's modes, the road). The time loop builds it once
+//! from the resolved scenario and the model; an output registers its channels and
+//! writes its metadata from it alone.
+
+use serde::{Deserialize, Serialize};
+
+use super::quantities::SensorKind;
+use crate::base::rate::ExactRate;
+
+/// How sensor samples are laid out in messages.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Layout {
+    /// One sample per message: every field plottable as a time series.
+    Sample,
+    /// Blocks of `block_samples` samples per message, as DAQ packets.
+    Block,
+}
+
+/// The run as a whole.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunInfo {
+    pub seed: u64,
+    /// The scenario's `start_time`, RFC 3339 as written.
+    pub start_time: String,
+    /// Unix-epoch ns of t = 0.
+    pub start_time_ns: u64,
+    /// The resolved scenario as TOML (every default filled in).
+    pub scenario_toml: String,
+    /// The scenario as the user wrote it (empty for a scenario built in code).
+    pub source_toml: String,
+}
+
+/// The bridge model the run starts with.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BridgeSummary {
+    /// The model's label (`finite_element(50)`, `lumped_mass(100)`, ...).
+    pub model: String,
+    /// Lowest natural frequencies (Hz), at most 10, lowest first.
+    pub natural_frequencies_hz: Vec<f64>,
+    /// Their damping ratios (Rayleigh).
+    pub damping_ratios: Vec<f64>,
+    /// The scenario's damping ratio (on modes 1 and 2).
+    pub damping_ratio: f64,
+    pub rayleigh_a0_per_s: f64,
+    pub rayleigh_a1_s: f64,
+    pub flexural_rigidity_n_m2: f64,
+    pub mass_per_length_kg_m: f64,
+    pub span_m: f64,
+    /// Positions of the deflected-shape nodes on `/truth/bridge` (m from the left support).
+    pub shape_position_m: Vec<f64>,
+    /// (structure, air) temperatures at t = 0 (degC) when the run has an environment.
+    pub temperatures_c: Option<(f64, f64)>,
+}
+
+/// The road profile.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RoadSummary {
+    /// One line: the profile's kind, class, band and extent.
+    pub description: String,
+    /// The profile as CSV (`x_m,elevation_m`).
+    pub csv: String,
+}
+
+/// One realised value of a sensor's measurement chain (`gain_error`, `bias`,
+/// `adc_lsb`, ...), in the channel's unit where it has one.
+pub type ChainParameter = (String, f64);
+
+/// The DAQ node clock of a sensor.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DaqClockInfo {
+    pub node_id: String,
+    pub drift_ppm: f64,
+    pub offset_s: f64,
+    /// The rate the node really samples at, `nominal (1 + drift)`, Hz.
+    pub true_rate_hz: f64,
+}
+
+/// One sensor's channels.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SensorChannelInfo {
+    pub id: String,
+    pub kind: SensorKind,
+    /// Nominal sample rate, exact.
+    pub rate: ExactRate,
+    /// The rate as the scenario wrote it (Hz), for metadata.
+    pub rate_hz: f64,
+    pub position_m: f64,
+    /// The measurement chain preset, or `white_noise`.
+    pub model: String,
+    /// White-noise density of the chain (unit per sqrt(Hz)).
+    pub noise_density_per_sqrt_hz: f64,
+    /// The chain's parameters as realised for this sensor (empty without a chain).
+    pub chain: Vec<ChainParameter>,
+    /// The node clock that samples and stamps it; `None`: an ideal clock.
+    pub clock: Option<DaqClockInfo>,
+    /// Strain gauges: distance below the neutral axis (m).
+    pub gauge_depth_m: Option<f64>,
+    /// Whether the sensor has faults configured.
+    pub has_faults: bool,
+}
+
+/// One weigh-in-motion station.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WimStationInfo {
+    pub id: String,
+    pub position_m: f64,
+    /// The station model as one short label (`cost323 B+(7)`).
+    pub model: String,
+}
+
+/// Rates of the truth streams.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StreamRates {
+    pub axle_load_rate_hz: f64,
+    pub bridge_state_rate_hz: f64,
+}
+
+/// Everything an output needs before the first record.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunManifest {
+    pub run: RunInfo,
+    pub bridge: BridgeSummary,
+    pub road: RoadSummary,
+    /// In scenario order: `Record::Sensor { sensor, .. }` indexes this list.
+    pub sensors: Vec<SensorChannelInfo>,
+    /// In scenario order: `WimRecordData::station` indexes this list.
+    pub wim_stations: Vec<WimStationInfo>,
+    pub rates: StreamRates,
+    pub layout: Layout,
+    /// Samples per block message (block layout).
+    pub block_samples: usize,
+}
+
+impl RunManifest {
+    /// A run with no sensors or stations on a 30 m bridge (unit tests of outputs).
+    #[cfg(test)]
+    pub(crate) fn minimal() -> Self {
+        RunManifest {
+            run: RunInfo {
+                seed: 42,
+                start_time: "2026-01-01T00:00:00Z".into(),
+                start_time_ns: 1_767_225_600_000_000_000,
+                scenario_toml: String::new(),
+                source_toml: String::new(),
+            },
+            bridge: BridgeSummary {
+                model: "finite_element n=2".into(),
+                natural_frequencies_hz: vec![3.78],
+                damping_ratios: vec![0.02],
+                damping_ratio: 0.02,
+                rayleigh_a0_per_s: 0.0,
+                rayleigh_a1_s: 0.0,
+                flexural_rigidity_n_m2: 5.629e10,
+                mass_per_length_kg_m: 12_000.0,
+                span_m: 30.0,
+                shape_position_m: vec![0.0, 15.0, 30.0],
+                temperatures_c: None,
+            },
+            road: RoadSummary {
+                description: "smooth".into(),
+                csv: String::new(),
+            },
+            sensors: Vec::new(),
+            wim_stations: Vec::new(),
+            rates: StreamRates {
+                axle_load_rate_hz: 200.0,
+                bridge_state_rate_hz: 20.0,
+            },
+            layout: Layout::Sample,
+            block_samples: 50,
+        }
+    }
+
+    /// Whether some sensor has faults configured (the run then writes `/truth/faults`).
+    pub fn has_faults(&self) -> bool {
+        self.sensors.iter().any(|s| s.has_faults)
+    }
+}

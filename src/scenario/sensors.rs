@@ -1,0 +1,223 @@
+//! Sensors and DAQ nodes: ids, positions and rates checked; each sensor's channel
+//! design, chain (preset + overrides, its values drawn) and node clock built once.
+
+use std::collections::BTreeSet;
+
+use rand_chacha::ChaCha8Rng;
+
+use super::resolved::ResolvedSensor;
+use super::{default_noise_density, unique_segment, Scenario, SensorKind, SensorSpec};
+use crate::base::random::child_rng;
+use crate::error::{num, require_non_negative, require_positive, Error, Result};
+use crate::measurement::daq::{ClockError, NodeClock};
+use crate::measurement::sensor::chain::{resolve, RealisedChain, ResolvedChain, TransducerKind};
+use crate::measurement::sensor::{AntiAliasOptions, ChannelDesign};
+
+/// The stream of node `id`'s clock, shared by all its channels (the resync draws are the
+/// node's, not a channel's).
+fn node_stream(seed: u64, id: &str) -> ChaCha8Rng {
+    child_rng(seed, &format!("daq/{id}/clock"))
+}
+
+/// The named streams of sensor `id`'s chain stages (`sensor/<id>/<stage>`): one per
+/// stage, so switching a stage on or off never changes another's numbers.
+pub fn sensor_streams(seed: u64, id: &str) -> impl FnMut(&str) -> ChaCha8Rng + '_ {
+    move |name: &str| child_rng(seed, &format!("sensor/{id}/{name}"))
+}
+
+impl Scenario {
+    pub(super) fn resolve_sensors(&self, dt_ns: u64) -> Result<Vec<ResolvedSensor>> {
+        let mut ids = BTreeSet::new();
+        let solver_rate_hz = 1e9 / dt_ns as f64;
+        let mut out = Vec::new();
+        for (i, s) in self.sensors.iter().enumerate() {
+            let path = format!("sensors.{i}");
+            unique_segment(
+                &mut ids,
+                &format!("{path}.id"),
+                &s.id,
+                "is used twice (sensor ids must be unique)",
+            )?;
+            let p = s.position_m;
+            if !(p.is_finite() && (0.0..=self.bridge.span_m).contains(&p)) {
+                return Err(Error::invalid(
+                    format!("{path}.position_m"),
+                    num(p),
+                    format!("must lie on the span [0, {}] m", self.bridge.span_m),
+                ));
+            }
+            require_positive(&format!("{path}.rate_hz"), s.rate_hz)?;
+            if s.rate_hz > solver_rate_hz * (1.0 + 1e-12) {
+                return Err(Error::invalid(
+                    format!("{path}.rate_hz"),
+                    num(s.rate_hz),
+                    format!(
+                        "must not exceed the solver rate 1/dt = {solver_rate_hz} Hz \
+                         (solver.dt_s = {}): the time step is too coarse for this sensor",
+                        num(dt_ns as f64 * 1e-9)
+                    ),
+                ));
+            }
+            let noise_density = match s.noise_density {
+                Some(d) => require_non_negative(&format!("{path}.noise_density"), d)?,
+                None => default_noise_density(s.kind),
+            };
+            let gauge_depth_m = match s.gauge_depth_m {
+                Some(d) => require_positive(&format!("{path}.gauge_depth_m"), d)?,
+                None => 0.8,
+            };
+            if s.kind != SensorKind::Strain && s.gauge_depth_m.is_some() {
+                return Err(Error::invalid(
+                    format!("{path}.gauge_depth_m"),
+                    gauge_depth_m,
+                    "applies to strain gauges only",
+                ));
+            }
+            let sigma = noise_density * (0.5 * s.rate_hz).sqrt();
+            if !sigma.is_finite() {
+                return Err(Error::invalid(
+                    format!("{path}.noise_density"),
+                    num(noise_density),
+                    format!(
+                        "gives a per-sample noise sigma of {} at {} Hz",
+                        num(sigma),
+                        s.rate_hz
+                    ),
+                ));
+            }
+            // The channel design the run will use: checks what only the filter design
+            // knows (a rate far below the solver rate needs a kernel too long to run).
+            let anti_alias = AntiAliasOptions::default();
+            let design = ChannelDesign::new(solver_rate_hz, s.rate_hz, &anti_alias, &path)?;
+            let node = self.resolve_daq_node(s, &path, solver_rate_hz)?;
+            let chain = resolve_chain(s, &path)?;
+            if let Some(faults) = &s.faults {
+                faults.validate(&format!("{path}.faults"))?;
+            }
+            let chain = match chain {
+                Some(chain) => Some(self.realise_chain(&chain, s, &anti_alias)?),
+                None => None,
+            };
+            let clock = match node {
+                Some(index) => Some(self.node_clock(index, s.rate_hz)?),
+                None => None,
+            };
+            out.push(ResolvedSensor {
+                rate: design.rate(),
+                spec: s.clone(),
+                noise_density,
+                gauge_depth_m,
+                node,
+                chain,
+                design,
+                clock,
+            });
+        }
+        Ok(out)
+    }
+
+    /// Node ids unique, clocks valid: each node's clock error (its resynchronisations).
+    pub(super) fn resolve_daq_nodes(&self) -> Result<Vec<ClockError>> {
+        let mut ids = BTreeSet::new();
+        let mut clocks = Vec::new();
+        for (i, node) in self.daq_nodes.iter().enumerate() {
+            node.validate(&format!("daq_nodes.{i}"))?;
+            if !ids.insert(node.id.as_str()) {
+                return Err(Error::invalid(
+                    format!("daq_nodes.{i}.id"),
+                    format!("\"{}\"", node.id),
+                    "is used twice (node ids must be unique)",
+                ));
+            }
+            clocks.push(ClockError::new(
+                &node.clock,
+                node_stream(self.seed, &node.id),
+                &format!("daq_nodes.{i}.clock"),
+            )?);
+        }
+        Ok(clocks)
+    }
+
+    /// The clock of node `index` sampling at `rate_hz` (validated for that rate).
+    fn node_clock(&self, index: usize, rate_hz: f64) -> Result<NodeClock> {
+        let node = &self.daq_nodes[index];
+        NodeClock::new(
+            &node.clock,
+            rate_hz,
+            node_stream(self.seed, &node.id),
+            &format!("daq_nodes.{index}.clock"),
+        )
+    }
+
+    /// Draws sensor `s`'s chain values (gain error, bias, hum phase) from its own streams
+    /// (`sensor/<id>/<stage>`), with the hum scaled by its anti-alias filter's gain.
+    fn realise_chain(
+        &self,
+        chain: &ResolvedChain,
+        s: &SensorSpec,
+        anti_alias: &AntiAliasOptions,
+    ) -> Result<RealisedChain> {
+        let mut rng_for = sensor_streams(self.seed, &s.id);
+        let rate_hz = s.rate_hz;
+        chain.realise(rate_hz, &mut rng_for, &|f| {
+            anti_alias.approximate_gain(rate_hz, f)
+        })
+    }
+
+    /// The index of the sensor's node; its clock must suit the sensor's rate, and a
+    /// clocked sensor must sample at most half the solver rate (drift and jitter move its
+    /// instants between solver steps, which the anti-alias filter interpolates).
+    fn resolve_daq_node(
+        &self,
+        s: &SensorSpec,
+        path: &str,
+        solver_rate_hz: f64,
+    ) -> Result<Option<usize>> {
+        let Some(id) = &s.daq_node else {
+            return Ok(None);
+        };
+        let Some(index) = self.daq_nodes.iter().position(|n| &n.id == id) else {
+            let known: Vec<&str> = self.daq_nodes.iter().map(|n| n.id.as_str()).collect();
+            return Err(Error::invalid(
+                format!("{path}.daq_node"),
+                format!("\"{id}\""),
+                format!("is not a [[daq_nodes]] id (known: {known:?})"),
+            ));
+        };
+        if s.rate_hz > 0.5 * solver_rate_hz {
+            return Err(Error::invalid(
+                format!("{path}.rate_hz"),
+                num(s.rate_hz),
+                format!(
+                    "must be at most half the solver rate ({} Hz) for a sensor on a DAQ node \
+                     clock",
+                    0.5 * solver_rate_hz
+                ),
+            ));
+        }
+        self.daq_nodes[index]
+            .clock
+            .validate_for_rate(&format!("daq_nodes.{index}.clock"), s.rate_hz)?;
+        Ok(Some(index))
+    }
+}
+
+/// The sensor's measurement chain, when it has a preset or a chain table: the preset's
+/// values, overridden by the chain table, then by `noise_density` if given.
+fn resolve_chain(s: &SensorSpec, path: &str) -> Result<Option<ResolvedChain>> {
+    if s.preset.is_none() && s.chain.is_none() {
+        return Ok(None);
+    }
+    let kind = match s.kind {
+        SensorKind::Accelerometer => TransducerKind::Accelerometer,
+        SensorKind::Strain => TransducerKind::Strain,
+        SensorKind::Displacement => TransducerKind::Displacement,
+    };
+    let mut spec = s.chain.clone().unwrap_or_default();
+    if let Some(d) = s.noise_density {
+        spec.noise_density = Some(d);
+    }
+    let chain = resolve(s.preset.unwrap_or_default(), kind, &spec, path)?;
+    chain.check_rate(s.rate_hz, &format!("{path}.rate_hz"))?;
+    Ok(Some(chain))
+}

@@ -1,0 +1,115 @@
+//! The run manifest: what the run will emit, described for its outputs before the first
+//! record (see [`crate::record::RunManifest`]).
+
+use crate::error::Result;
+use crate::measurement::wim::WimModelSpec;
+use crate::record::{
+    BridgeSummary, DaqClockInfo, RoadSummary, RunInfo, RunManifest, SensorChannelInfo, StreamRates,
+    WimStationInfo,
+};
+use crate::scenario::{Resolved, ResolvedSensor, SensorKind};
+
+use super::Prepared;
+
+/// The manifest of the run `resolved` on the model and road of `prepared`.
+pub fn manifest(resolved: &Resolved, prepared: &Prepared) -> Result<RunManifest> {
+    let s = &resolved.scenario;
+    let model = &prepared.model;
+    let (natural_frequencies_hz, damping_ratios) = model.modal_summary(10);
+    let sensors = resolved
+        .sensors
+        .iter()
+        .map(|sensor| sensor_info(resolved, sensor))
+        .collect();
+    Ok(RunManifest {
+        run: RunInfo {
+            seed: s.seed,
+            start_time: s.start_time.clone(),
+            start_time_ns: resolved.start_time_ns,
+            scenario_toml: s.to_toml(),
+            source_toml: resolved.source_toml.clone(),
+        },
+        bridge: BridgeSummary {
+            model: s.bridge.model.label(),
+            natural_frequencies_hz,
+            damping_ratios,
+            damping_ratio: s.bridge.damping_ratio,
+            rayleigh_a0_per_s: model.rayleigh.a0_per_s,
+            rayleigh_a1_s: model.rayleigh.a1_s,
+            flexural_rigidity_n_m2: s.bridge.flexural_rigidity_n_m2,
+            mass_per_length_kg_m: s.bridge.mass_per_length_kg_m,
+            span_m: s.bridge.span_m,
+            shape_position_m: model.shape_positions_m().to_vec(),
+            temperatures_c: prepared
+                .condition
+                .as_ref()
+                .map(|c| (c.state.temperature_structure_c, c.state.temperature_air_c)),
+        },
+        road: RoadSummary {
+            description: prepared.road.describe().to_string(),
+            csv: prepared.road.to_csv(),
+        },
+        sensors,
+        wim_stations: s
+            .wim_stations
+            .iter()
+            .map(|w| WimStationInfo {
+                id: w.id.clone(),
+                position_m: w.position_m,
+                model: wim_model_label(&w.model),
+            })
+            .collect(),
+        rates: StreamRates {
+            axle_load_rate_hz: s.output.axle_load_rate_hz,
+            bridge_state_rate_hz: s.output.bridge_state_rate_hz,
+        },
+        layout: s.output.layout,
+        block_samples: s.output.block_samples,
+    })
+}
+
+/// One sensor's channel description, with its chain as realised.
+fn sensor_info(resolved: &Resolved, sensor: &ResolvedSensor) -> SensorChannelInfo {
+    let spec = &sensor.spec;
+    let noise_density_per_sqrt_hz = match sensor.resolved_chain() {
+        Some(chain) => chain.chain_parameters().noise_density,
+        None => sensor.noise_density,
+    };
+    let chain = match &sensor.chain {
+        Some(chain) => chain.parameters().to_vec(),
+        None => Vec::new(),
+    };
+    let clock = sensor.node.zip(sensor.clock.as_ref()).map(|(i, clock)| {
+        let node = &resolved.scenario.daq_nodes[i];
+        DaqClockInfo {
+            node_id: node.id.clone(),
+            drift_ppm: node.clock.drift_ppm,
+            offset_s: node.clock.offset_s,
+            true_rate_hz: clock.true_rate_hz(),
+        }
+    });
+    SensorChannelInfo {
+        id: spec.id.clone(),
+        kind: spec.kind,
+        rate: sensor.rate,
+        rate_hz: spec.rate_hz,
+        position_m: spec.position_m,
+        model: sensor.model_name().to_string(),
+        noise_density_per_sqrt_hz,
+        chain,
+        clock,
+        gauge_depth_m: (spec.kind == SensorKind::Strain).then_some(sensor.gauge_depth_m),
+        has_faults: spec.faults.as_ref().is_some_and(|f| !f.is_empty()),
+    }
+}
+
+/// A station model as one short label.
+fn wim_model_label(model: &WimModelSpec) -> String {
+    match model {
+        WimModelSpec::Ideal => "ideal (dynamic tyre force at the strip)".into(),
+        WimModelSpec::Cost323 { class, .. } => format!("cost323 {class}"),
+        WimModelSpec::Physics { noise_rel, .. } => {
+            format!("physics (dynamic tyre force x (1 + N(0, {noise_rel})))")
+        }
+    }
+}
