@@ -196,7 +196,7 @@ fn rms_reaches_the_target_fe50_and_excites_modes_1_and_2() {
     // Quarter span: mode 2 (antisymmetric) has its maximum there. Bins of 0.098 Hz are
     // about the half-power bandwidth of mode 1 (2 zeta f1 = 0.15 Hz), so the peak bin is
     // not moved by the Welch estimate's scatter (~6 % with ~290 averages). Newmark
-    // lengthens periods by (w dt)^2 / 12 (PHYSICS.md section 4): 0.35 % at f2 here.
+    // lengthens periods by (w dt)^2 / 12 (docs/physics.md section 4): 0.35 % at f2 here.
     let (freqs, psd) = welch(&quarter, 1.0 / dt_s, 4096);
     let bin_hz = freqs[1];
     for n in [1, 2] {

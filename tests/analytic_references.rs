@@ -1,5 +1,5 @@
 //! The analytical references of `bridgetwin::studies::analytic` checked against published numbers
-//! (PHYSICS.md sections 5 and 6), textbook closed forms, and each other.
+//! (docs/physics.md sections 5 and 6), textbook closed forms, and each other.
 //!
 //! Sign convention of the module: beam deflection, vehicle displacement and forces are
 //! positive DOWNWARD; road elevation positive UPWARD.
@@ -13,7 +13,7 @@ use nalgebra::{DMatrix, DVector};
 
 const G_M_S2: f64 = 9.81;
 
-/// The paper's 30 m beam (PHYSICS.md section 1): f1 = 3.780 Hz.
+/// The paper's 30 m beam (docs/physics.md section 1): f1 = 3.780 Hz.
 fn paper_beam() -> SimplySupportedBeam {
     SimplySupportedBeam::new(30.0, 5.629e10, 12_000.0).unwrap()
 }
@@ -32,7 +32,7 @@ fn daf_at_alpha(alpha: f64, n_modes: usize, with_free_vibration: bool) -> f64 {
     sol.midspan_daf(sol.exit_time_s() + extra)
 }
 
-/// PHYSICS.md section 5 prints the DAF to 3 decimals; the lead asked for +-0.002. The
+/// docs/physics.md section 5 prints the DAF to 3 decimals; the lead asked for +-0.002. The
 /// closed form here is converged to 1e-6 in modes (see `daf_converges_in_mode_count`),
 /// so the remaining differences (<= 0.0006) are in the table, not in the reference.
 #[test]
@@ -62,7 +62,7 @@ fn undamped_daf_table_vs_alpha() {
     }
 }
 
-/// PHYSICS.md: maximum 1.732 near alpha 0.62. Golden-section search over alpha.
+/// docs/physics.md: maximum 1.732 near alpha 0.62. Golden-section search over alpha.
 #[test]
 fn undamped_daf_maximum_near_alpha_0_62() {
     let daf = |alpha: f64| daf_at_alpha(alpha, 60, true);
@@ -91,7 +91,7 @@ fn undamped_daf_maximum_near_alpha_0_62() {
     assert!((alpha - 0.62).abs() <= 0.01, "{alpha}");
 }
 
-/// PHYSICS.md: 30 m beam at 10/20/30 m/s, 1.045/1.094/1.143 undamped and
+/// docs/physics.md: 30 m beam at 10/20/30 m/s, 1.045/1.094/1.143 undamped and
 /// 1.023/1.069/1.117 with zeta = 2 % on every mode; +-0.002 as for the table.
 #[test]
 fn paper_beam_daf_at_road_speeds() {
@@ -139,7 +139,7 @@ fn daf_converges_in_mode_count() {
 }
 
 // ---------------------------------------------------------------------------------------
-// Sprung mass (PHYSICS.md section 6, VBI-2D verification case)
+// Sprung mass (docs/physics.md section 6, VBI-2D verification case)
 // ---------------------------------------------------------------------------------------
 
 /// 25 m beam, E 3.5e10 Pa, I 1.3901 m^4, m 18 358 kg/m (f1 = 4.092 Hz).

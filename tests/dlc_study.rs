@@ -49,7 +49,7 @@ fn quick_study_runs_and_writes_its_files() {
 
 #[test]
 fn chinese_code_factor_is_1_22_at_3_78_hz() {
-    // JTG D60: 1 + 0.1767 ln(3.78) - 0.0157 = 1.2193 (PHYSICS.md section 8: 1.22).
+    // JTG D60: 1 + 0.1767 ln(3.78) - 0.0157 = 1.2193 (docs/physics.md section 8: 1.22).
     assert!((china_jtg_d60_factor(3.78) - 1.2193).abs() < 1e-4);
     // The branches below 1.5 Hz and above 14 Hz.
     assert_eq!(china_jtg_d60_factor(1.2), 1.05);

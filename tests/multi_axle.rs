@@ -1,7 +1,7 @@
 //! Multi-axle vehicles (issue 6, item 1): rigid trucks on 2-4 axles, the tractor +
 //! semi-trailer hinged at the fifth wheel, the traffic-class presets and their scaling to
 //! a traffic draw. Every figure is checked against an independent computation: statics by
-//! the lever rule on each body, matrices rebuilt here from PHYSICS.md's formula,
+//! the lever rule on each body, matrices rebuilt here from docs/physics.md's formula,
 //! eigenvalues of the hinged model against a penalty-spring two-body model, axle hop
 //! against the decoupled `sqrt((k_s + k_t) / m)`.
 
@@ -310,7 +310,7 @@ fn articulated_zero_energy_modes_are_exactly_the_three_rigid_motions() {
 // Frequencies
 // ---------------------------------------------------------------------------------------
 
-/// PHYSICS.md section 6's K and M for a rigid body on n axles, written out entry by
+/// docs/physics.md section 6's K and M for a rigid body on n axles, written out entry by
 /// entry here, tyres included.
 fn rigid_matrices_by_hand(spec: &RigidTruckSpec) -> (DMatrix<f64>, DMatrix<f64>) {
     let p = spec.params(PATH).unwrap();
@@ -379,14 +379,14 @@ fn preset_frequencies_are_plausible_and_match_independent_computations() {
             }
             None => (artic_params().axles, 3),
         };
-        // Body modes: 1-4 Hz bounce and pitch (SENSORS.md section 4); the light
+        // Body modes: 1-4 Hz bounce and pitch (docs/sensors.md section 4); the light
         // tractor's pitch on its stiff drive axle is the exception, ~5 Hz.
         for (i, fb) in f[..body_dofs].iter().enumerate() {
             let band = if i == 2 { 4.0..6.0 } else { 1.0..4.0 };
             assert!(band.contains(fb), "{class}: body mode {i} {f:?}");
         }
         // Axle hop: within 3 % of the decoupled estimate (the body, 10-50 times heavier,
-        // barely moves at hop frequencies), and in 8.5-20 Hz (10-20 Hz in SENSORS.md;
+        // barely moves at hop frequencies), and in 8.5-20 Hz (10-20 Hz in docs/sensors.md;
         // VBI-2D's soft steer axle hops at 8.8 Hz).
         for (got, est) in f[body_dofs..].iter().zip(decoupled_hop_hz(&axles)) {
             assert!(rel(*got, est) < 0.03, "{class}: {got} vs {est}");
@@ -416,7 +416,7 @@ fn truck_2axle_is_the_two_axle_truck_half_car() {
 // Scaling to a traffic draw
 // ---------------------------------------------------------------------------------------
 
-/// Draws like the traffic generator's (SENSORS.md section 4: Auxerre spacings and
+/// Draws like the traffic generator's (docs/sensors.md section 4: Auxerre spacings and
 /// weights, 2-axle front/rear 1/3 : 2/3): (class, gross weight N, spacings, shares).
 fn draws() -> Vec<(&'static str, f64, Vec<f64>, Vec<f64>)> {
     let t = 1_000.0 * GRAVITY_M_S2;

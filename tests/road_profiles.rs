@@ -1,4 +1,4 @@
-//! Road profiles: ISO 8608 statistics against the closed forms of PHYSICS.md section 7,
+//! Road profiles: ISO 8608 statistics against the closed forms of docs/physics.md section 7,
 //! deterministic shapes, CSV input/output and configuration errors.
 
 use bridgetwin::base::signal::{welch_psd, WelchPsd};

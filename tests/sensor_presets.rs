@@ -80,7 +80,7 @@ fn kind_of(preset: SensorPreset) -> TransducerKind {
 fn every_preset_with_noise_has_its_white_density() {
     // 2^17 samples in segments of 1024: ~255 averaged segments and >= 300 bins in the
     // band, so the band mean has a relative standard error < 0.5 % in PSD. The 10 %
-    // tolerance on the density (SENSORS.md's spec) catches a factor sqrt(2) (one- vs
+    // tolerance on the density (docs/sensors.md's spec) catches a factor sqrt(2) (one- vs
     // two-sided) or fs vs fs/2 at once. The whole preset chain runs on a zero input
     // (ADC included: its LSB^2/12 adds < 2 % in PSD for mems_consumer); the band starts
     // 10 corner frequencies up and the expected PSD includes the 1/f term.

@@ -55,7 +55,7 @@ fn normal(rng: &mut ChaCha8Rng, mean: f64, sd: f64) -> f64 {
 }
 
 /// Cars 40 %, 2-axle trucks 20 %, 3-axle 10 %, 5-axle (2-S3) 30 %. Truck figures from
-/// SENSORS.md section 4 (Auxerre): 2-axle spacing 5.53 +/- 0.51 m (kept within 4.5-6.6 m,
+/// docs/sensors.md section 4 (Auxerre): 2-axle spacing 5.53 +/- 0.51 m (kept within 4.5-6.6 m,
 /// a 2-axle single unit), front/rear 1/3 : 2/3; 5-axle spacings 3.24, 5.43, 1.20, 1.21 m,
 /// gross 0.16 x N(29.6, 5.5) t + 0.84 x N(41.2, 5.5) t; speed N(89, 3.6) km/h.
 fn traffic(seed: u64) -> Vec<(Kind, WimPassage)> {

@@ -8,7 +8,7 @@
 //!   numbers, time-order check, metadata, attachments).
 //! - [`Topics`]: the topic names of the output contract.
 //!
-//! Conventions of every message (see `ARCHITECTURE.md`): `timestamp` (field 1) equals the
+//! Conventions of every message (see `docs/output.md`): `timestamp` (field 1) equals the
 //! MCAP `log_time` in Unix-epoch ns; vertical displacement, velocity and acceleration are
 //! positive downward; positions are measured along the bridge from the left support.
 

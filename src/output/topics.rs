@@ -1,4 +1,4 @@
-//! Topic names of the output contract (`ARCHITECTURE.md`), built in one place so that a
+//! Topic names of the output contract (`docs/output.md`), built in one place so that a
 //! typo cannot create a topic the tools and layouts do not know.
 
 use crate::error::{Error, Result};

@@ -216,7 +216,7 @@ fn default_lane() -> u32 {
 
 /// Default white-noise density in the unit of a sensor of `kind` per sqrt(Hz):
 /// ADXL355-class 22.5 ug/sqrt(Hz); foil strain gauge ~0.5 ue rms at 1 kHz; 1 um/sqrt(Hz)
-/// for displacement (SENSORS.md sections 1-2).
+/// for displacement (docs/sensors.md sections 1-2).
 pub fn default_noise_density(kind: SensorKind) -> f64 {
     match kind {
         SensorKind::Accelerometer => 22.5e-6 * crate::base::units::GRAVITY_M_S2,

@@ -7,7 +7,7 @@
 //! (c) the paper's `DLC = max axle force / static` and the classic `sigma / static`
 //! (Sweatman, Cebon) per axle vs speed on smooth, A, B and C roads, as mean and 5th/95th
 //! percentiles over seeded road realisations; (d) the code impact factors at f1
-//! (PHYSICS.md section 8) and where the simulated DLC exceeds them.
+//! (docs/physics.md section 8) and where the simulated DLC exceeds them.
 //!
 //! Every crossing starts the truck in static equilibrium `approach_m` before the bridge on
 //! one continuous profile; only the tyre forces while the axle is on the span count.
@@ -37,7 +37,7 @@ use crate::studies::plot::{Chart, Figure, Scale, Series};
 
 use super::output::{write_file, write_svg_file};
 
-/// Impact factor `1 + mu` of the Chinese code JTG D60-2015 (PHYSICS.md section 8):
+/// Impact factor `1 + mu` of the Chinese code JTG D60-2015 (docs/physics.md section 8):
 /// mu = 0.05 below 1.5 Hz, `0.1767 ln f - 0.0157` from 1.5 to 14 Hz, 0.45 above.
 pub fn china_jtg_d60_factor(f1_hz: f64) -> f64 {
     let mu = if f1_hz < 1.5 {
@@ -131,7 +131,7 @@ impl Default for DlcSetup {
 }
 
 impl DlcSetup {
-    /// The truck of the study: `two_axle_truck` (PHYSICS.md section 6).
+    /// The truck of the study: `two_axle_truck` (docs/physics.md section 6).
     pub fn truck() -> Result<VehicleDynamics> {
         VehicleModelSpec::HalfCar(HalfCarSpec {
             preset: Some("two_axle_truck".into()),
@@ -391,7 +391,7 @@ pub fn run_case(
 }
 
 /// Largest static midspan deflection (m, down) as the axles' static loads roll across a
-/// uniform beam: the closed-form influence line (PHYSICS.md section 2), scanned at 1 cm.
+/// uniform beam: the closed-form influence line (docs/physics.md section 2), scanned at 1 cm.
 pub fn static_peak_midspan_m(beam: &BeamProperties, vehicle: &VehicleDynamics) -> f64 {
     let l = beam.span_m;
     let positions = ((l + vehicle.wheelbase_m()) / 0.01).ceil() as usize;
@@ -893,7 +893,7 @@ fn summary(setup: &DlcSetup, r: &DlcReport) -> String {
         String::from("# Dynamic load coefficient study (the paper's section 11 and past it)\n\n");
     let _ = writeln!(
         md,
-        "Bridge: the paper's 30 m simply supported beam (EI {:.4e} N m^2, m {} kg/m, f1 = {:.3} Hz), Rayleigh {} % on modes 1-2, model {} ({:?} storage). Vehicle: `two_axle_truck` (PHYSICS.md section 6). Newmark average acceleration, dt = {} s, linear tyres (`ContactLaw::Full`, tension counted as contact loss). Each crossing starts in static equilibrium {} m before the bridge on one continuous profile; forces count while the axle is on the span. ISO 8608 roads with the class's geometric-mean G_d(n0) (A 16e-6, B 64e-6, C 256e-6 m^3), n in [0.01, 4] cycle/m, no tyre-patch filter; {} seeded realisations per class and speed (child stream per class and realisation, the same roads at every speed). Run time {:.1} s on one core.\n",
+        "Bridge: the paper's 30 m simply supported beam (EI {:.4e} N m^2, m {} kg/m, f1 = {:.3} Hz), Rayleigh {} % on modes 1-2, model {} ({:?} storage). Vehicle: `two_axle_truck` (docs/physics.md section 6). Newmark average acceleration, dt = {} s, linear tyres (`ContactLaw::Full`, tension counted as contact loss). Each crossing starts in static equilibrium {} m before the bridge on one continuous profile; forces count while the axle is on the span. ISO 8608 roads with the class's geometric-mean G_d(n0) (A 16e-6, B 64e-6, C 256e-6 m^3), n in [0.01, 4] cycle/m, no tyre-patch filter; {} seeded realisations per class and speed (child stream per class and realisation, the same roads at every speed). Run time {:.1} s on one core.\n",
         setup.beam.flexural_rigidity_n_m2,
         setup.beam.mass_per_length_kg_m,
         r.f1_hz,
@@ -1058,7 +1058,7 @@ fn summary(setup: &DlcSetup, r: &DlcReport) -> String {
     }
     let _ = writeln!(
         md,
-        "\nChina: JTG D60 `1 + mu`, mu = 0.1767 ln f1 - 0.0157 = {:.4} at f1 = {:.3} Hz (PHYSICS.md section 8).\n",
+        "\nChina: JTG D60 `1 + mu`, mu = 0.1767 ln f1 - 0.0157 = {:.4} at f1 = {:.3} Hz (docs/physics.md section 8).\n",
         china_jtg_d60_factor(r.f1_hz) - 1.0,
         r.f1_hz
     );
@@ -1213,7 +1213,7 @@ mod tests {
 
     #[test]
     fn chinese_factor_follows_jtg_d60() {
-        // PHYSICS.md section 8: 1.22 at 3.78 Hz (two decimals); the branches at the ends.
+        // docs/physics.md section 8: 1.22 at 3.78 Hz (two decimals); the branches at the ends.
         assert!((china_jtg_d60_factor(3.78) - 1.22).abs() < 0.005);
         assert_eq!(china_jtg_d60_factor(1.0), 1.05);
         assert_eq!(china_jtg_d60_factor(20.0), 1.45);
@@ -1230,7 +1230,7 @@ mod tests {
 
     #[test]
     fn static_peak_of_one_load_is_pl3_over_48ei() {
-        // A single axle: the peak is at midspan, P L^3 / (48 EI) (PHYSICS.md section 1).
+        // A single axle: the peak is at midspan, P L^3 / (48 EI) (docs/physics.md section 1).
         let beam = BeamProperties::paper_default();
         let force = VehicleDynamics::moving_forces(&[1e5], &[0.0]);
         let expected = 1e5 * 30f64.powi(3) / (48.0 * beam.flexural_rigidity_n_m2);

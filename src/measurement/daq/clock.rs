@@ -10,7 +10,7 @@ use super::draws::{field, require_duration, truncated_standard_normal, NS_PER_S}
 use crate::base::random::fnv1a_64;
 use crate::error::{num, require_finite, require_non_negative, require_positive, Error, Result};
 
-/// Largest accepted oscillator error: a crystal is +/-20-50 ppm (SENSORS.md section 2), so
+/// Largest accepted oscillator error: a crystal is +/-20-50 ppm (docs/sensors.md section 2), so
 /// 1000 ppm only catches unit mistakes (a fraction or a percentage typed as ppm).
 pub const MAX_DRIFT_PPM: f64 = 1000.0;
 

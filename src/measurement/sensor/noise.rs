@@ -21,7 +21,7 @@ pub struct WhiteNoise {
 
 impl WhiteNoise {
     /// Per-sample standard deviation at sample rate `rate_hz`: `density * sqrt(rate / 2)`
-    /// (white noise over `[0, rate / 2]`, SENSORS.md section 1).
+    /// (white noise over `[0, rate / 2]`, docs/sensors.md section 1).
     pub fn sigma(&self, rate_hz: f64) -> f64 {
         self.density_per_sqrt_hz * (0.5 * rate_hz).sqrt()
     }
@@ -85,7 +85,7 @@ mod tests {
     #[test]
     fn sigma_follows_the_one_sided_density() {
         // ADXL355, 22.5 ug/sqrt(Hz) at 250 Hz: 22.5 * sqrt(125) = 251.6 ug per sample over
-        // 0..125 Hz; SENSORS.md's ~225 ug is the part in the 0..100 Hz band,
+        // 0..125 Hz; docs/sensors.md's ~225 ug is the part in the 0..100 Hz band,
         // 22.5 * sqrt(100).
         let n = WhiteNoise {
             density_per_sqrt_hz: 22.5e-6,

@@ -2,7 +2,7 @@
 //!
 //! COST 323 (European WIM specification, Jacob, O'Brien & Jehaes 2002) grades a system by
 //! a tolerance `delta` on the relative error of four criteria: gross weight, group of axles,
-//! single axle, axle of a group (SENSORS.md section 3). Its acceptance test is a confidence
+//! single axle, axle of a group (docs/sensors.md section 3). Its acceptance test is a confidence
 //! interval whose level depends on the number of test trucks and on the test conditions; we
 //! use the common reading that an unbiased Gaussian error with `sigma = delta / 2` is in
 //! class (95.4 % of the errors inside `delta`). The errors are relative to the **static**
@@ -37,7 +37,7 @@
 //! - A split the families cannot reach (one child carrying nearly all the load while the
 //!   parent sigma is much smaller than the children's): the sum stays exact, the gross error
 //!   keeps its sigma, and the children's sigmas move; [`VehicleErrorPlan`] reports the
-//!   sigmas actually produced. No vehicle of the SENSORS.md traffic mix is in this case.
+//!   sigmas actually produced. No vehicle of the docs/sensors.md traffic mix is in this case.
 //! - Real WIM errors are not Gaussian, depend on speed, temperature and the vehicle's
 //!   dynamics, and are correlated between consecutive vehicles; the `physics` model covers
 //!   the dynamics.
@@ -53,7 +53,7 @@ use super::AxleGroup;
 pub const COST323_CLASS_NAMES: [&str; 5] = ["A(5)", "B+(7)", "B(10)", "C(15)", "D+(20)"];
 
 /// Tolerances `delta` in % per class, in the order of [`Criterion::ALL`] (COST 323
-/// specification, Table 1 of the class definitions; SENSORS.md section 3).
+/// specification, Table 1 of the class definitions; docs/sensors.md section 3).
 const TOLERANCES_PCT: [[f64; 4]; 5] = [
     [5.0, 7.0, 8.0, 10.0],
     [7.0, 10.0, 11.0, 14.0],
@@ -266,7 +266,7 @@ mod tests {
             assert_eq!(Cost323Class::from_name(class.name()), Some(class));
         }
         assert_eq!(Cost323Class::from_name("B+"), None);
-        // Spot values typed from SENSORS.md section 3, not from the table above.
+        // Spot values typed from docs/sensors.md section 3, not from the table above.
         assert_eq!(
             Cost323Class::BPlus7.tolerance_pct(Criterion::AxleOfGroup),
             14.0

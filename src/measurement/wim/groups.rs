@@ -1,7 +1,7 @@
 //! Axle groups and the axle pattern ("1-1-3") a WIM system derives from axle spacings.
 
 /// Largest spacing between two axles of one group, m: axles closer than this form a tandem
-/// or tridem (SENSORS.md section 3; EU Directive 96/53/EC also counts axles under 2.0 m as
+/// or tridem (docs/sensors.md section 3; EU Directive 96/53/EC also counts axles under 2.0 m as
 /// a tandem, 1.3-1.8 m being typical).
 pub const GROUP_SPACING_MAX_M: f64 = 2.1;
 
@@ -55,7 +55,7 @@ mod tests {
 
     #[test]
     fn five_axle_tractor_with_tridem_is_1_1_3() {
-        // SENSORS.md section 4 spacings.
+        // docs/sensors.md section 4 spacings.
         let groups = axle_groups(
             &[3.24, 5.43, 1.20, 1.21],
             &[60e3, 100e3, 70e3, 71e3, 72e3],

@@ -36,7 +36,7 @@ pub struct StiffnessRegion {
 }
 
 impl BeamProperties {
-    /// The paper's 30 m bridge: f1 = 3.78 Hz (PHYSICS.md section 1).
+    /// The paper's 30 m bridge: f1 = 3.78 Hz (docs/physics.md section 1).
     pub fn paper_default() -> Self {
         BeamProperties {
             span_m: 30.0,
@@ -129,7 +129,7 @@ impl BeamProperties {
         self.mass_per_length_kg_m * self.span_m
     }
 
-    /// Closed-form f_n of the uniform simply supported beam (Hz), PHYSICS.md section 1.
+    /// Closed-form f_n of the uniform simply supported beam (Hz), docs/physics.md section 1.
     pub fn closed_form_frequency_hz(&self, n: usize) -> f64 {
         let nf = n as f64;
         nf * nf * std::f64::consts::PI / (2.0 * self.span_m * self.span_m)
@@ -144,7 +144,7 @@ mod tests {
     #[test]
     fn paper_beam_has_f1_3_78_hz() {
         let beam = BeamProperties::paper_default();
-        // PHYSICS.md: f1 3.780, f2 15.12, f3 34.02 Hz (4 significant digits).
+        // docs/physics.md: f1 3.780, f2 15.12, f3 34.02 Hz (4 significant digits).
         assert!((beam.closed_form_frequency_hz(1) - 3.780).abs() < 5e-4);
         assert!((beam.closed_form_frequency_hz(2) - 15.12).abs() < 5e-3);
         assert!((beam.closed_form_frequency_hz(3) - 34.02).abs() < 5e-3);

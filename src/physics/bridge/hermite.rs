@@ -2,7 +2,7 @@
 //!
 //! DOFs per node are (w, theta) with w the vertical displacement (upward positive) and
 //! theta = dw/dx. Element matrices are the classic ones (e.g. Przemieniecki, "Theory of
-//! Matrix Structural Analysis", 1968, ch. 5; PHYSICS.md section 3).
+//! Matrix Structural Analysis", 1968, ch. 5; docs/physics.md section 3).
 
 use nalgebra::{SMatrix, SVector};
 

@@ -9,7 +9,7 @@ use super::mesh::HermiteMesh;
 use crate::error::{Error, Result};
 
 /// Deflection at `x` under a unit load at `a` on a uniform simply supported beam
-/// (PHYSICS.md section 2; e.g. Gere & Timoshenko, Mechanics of Materials, table G-2).
+/// (docs/physics.md section 2; e.g. Gere & Timoshenko, Mechanics of Materials, table G-2).
 pub fn unit_load_deflection_m_per_n(beam: &BeamProperties, x_m: f64, a_m: f64) -> f64 {
     let l = beam.span_m;
     let ei = beam.flexural_rigidity_n_m2;

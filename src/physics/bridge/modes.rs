@@ -52,7 +52,7 @@ pub fn generalized_modes(stiffness: &DMatrix<f64>, mass: &DMatrix<f64>) -> Resul
     })
 }
 
-/// Rayleigh damping `C = a0 M + a1 K` (PHYSICS.md section 4).
+/// Rayleigh damping `C = a0 M + a1 K` (docs/physics.md section 4).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Rayleigh {
     /// Mass-proportional coefficient (1/s).

@@ -15,7 +15,7 @@ fn static_solve(model: &BridgeModel, load: &DVector<f64>) -> DVector<f64> {
 #[test]
 fn frequencies_converge_to_closed_form() {
     let beam = paper();
-    // PHYSICS.md: N = 7 lumped masses already give f1..f3 within 0.2 %; FE converges
+    // docs/physics.md: N = 7 lumped masses already give f1..f3 within 0.2 %; FE converges
     // from above at O(h^4), below (n pi h / L)^4 / 720: 6.8e-5 for mode 3 at 20 elements.
     let lumped = BridgeModel::build(
         &beam,
@@ -39,7 +39,7 @@ fn frequencies_converge_to_closed_form() {
 
 #[test]
 fn lumped_point_operator_equals_k_times_flexibility_column() {
-    // h(x) = K f(x): the statically consistent load of a force at x (PHYSICS.md 2).
+    // h(x) = K f(x): the statically consistent load of a force at x (docs/physics.md 2).
     let beam = paper();
     let n = 9;
     let model = BridgeModel::build(

@@ -2,7 +2,7 @@
 //!
 //! Air temperature (constant, daily cycle with red noise, or a measured record) lags into
 //! the structure temperature, which scales E through a bilinear law with a knee at 0 degC
-//! (the Z24 shape, SENSORS.md section 5). Damage removes a growing fraction of EI over
+//! (the Z24 shape, docs/sensors.md section 5). Damage removes a growing fraction of EI over
 //! parts of the span. [`EnvironmentModel::state_at`] combines both into a
 //! [`StiffnessState`]; [`RebuildPolicy`] says when the bridge model is worth rebuilding
 //! and [`StiffnessState::beam_at`] gives the beam to rebuild it from.

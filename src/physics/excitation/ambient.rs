@@ -1,5 +1,5 @@
 //! Ambient excitation: a band-limited random force field on the deck (wind, micro-tremor),
-//! present between and during vehicle passages (SENSORS.md section 5), whose level is set
+//! present between and during vehicle passages (docs/sensors.md section 5), whose level is set
 //! by the stationary RMS acceleration it causes at a reference point, so a scenario states
 //! its signal-to-noise ratio directly.
 //!
@@ -44,7 +44,7 @@ const WARMUP_DECAY: f64 = 1e-3;
 #[serde(deny_unknown_fields)]
 pub struct AmbientSpec {
     /// Stationary RMS of the vertical acceleration at `reference_position_m` that the
-    /// field alone causes (m/s^2), > 0. SENSORS.md section 1: ambient response of short
+    /// field alone causes (m/s^2), > 0. docs/sensors.md section 1: ambient response of short
     /// road bridges is 1e-5 .. 1e-3 g (1e-4 .. 1e-2 m/s^2).
     pub target_rms_m_s2: f64,
     /// Frequency band of the force `[low, high]` (Hz), `0 < low < high < 1 / (2 dt)`.

@@ -324,7 +324,7 @@ mod tests {
 
     #[test]
     fn warped_resonance_sits_where_newmark_puts_it() {
-        // Average-acceleration Newmark has period elongation ~ (w dt)^2 / 12 (PHYSICS.md
+        // Average-acceleration Newmark has period elongation ~ (w dt)^2 / 12 (docs/physics.md
         // section 4); the exact warp atan(w dt / 2) / (pi dt) agrees with it up to
         // (1/80 - 1/144) (w dt)^4 relative (next terms of the two series).
         let (w, dt) = (2.0 * PI * 15.12, 0.004);

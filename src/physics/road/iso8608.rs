@@ -1,6 +1,6 @@
 //! ISO 8608 random profile synthesis by inverse FFT.
 //!
-//! Harmonic superposition (PHYSICS.md section 7, ISO 8608 Annex F)
+//! Harmonic superposition (docs/physics.md section 7, ISO 8608 Annex F)
 //! `r(x) = sum_k A_k cos(2 pi n_k x + phi_k)` with uniform random phases `phi_k`, evaluated
 //! for all samples at once by one inverse FFT. The lines sit on the FFT grid
 //! `n_k = k dn`, `dn = 1 / (N_fft dx)`; each line carries exactly the spectrum's integral

@@ -4,7 +4,7 @@
 //! [`RoadProfileSpec`] is the scenario's configuration; [`RoadProfile::build`] turns it into
 //! a profile over the road range the simulation visits (approach, bridge and exit in one
 //! continuous profile), evaluated in O(1) by [`RoadProfile::elevation_m`] and
-//! [`RoadProfile::slope`]. The synthesis and its verification follow PHYSICS.md section 7.
+//! [`RoadProfile::slope`]. The synthesis and its verification follow docs/physics.md section 7.
 
 mod csv;
 mod curve;

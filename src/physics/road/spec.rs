@@ -480,7 +480,7 @@ mod tests {
 
     #[test]
     fn band_rms_matches_physics_reference() {
-        // PHYSICS.md section 7 rounds to 0.01 mm, hence the 0.005 mm tolerance.
+        // docs/physics.md section 7 rounds to 0.01 mm, hence the 0.005 mm tolerance.
         let expected_mm = [3.99, 7.99, 15.98, 31.96];
         for (class, mm) in IsoClass::ALL.iter().zip(expected_mm) {
             let rms_mm = 1e3 * iso8608_band_rms_m(class.gd_n0_m3(), 0.01, 4.0);

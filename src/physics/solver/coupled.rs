@@ -1,4 +1,4 @@
-//! The coupled vehicle-bridge step (PHYSICS.md section 9).
+//! The coupled vehicle-bridge step (docs/physics.md section 9).
 //!
 //! The bridge's effective matrix is factorized once. Each step, every tyre contact on the
 //! span adds a rank-one coupling, which is eliminated through the contact forces: with

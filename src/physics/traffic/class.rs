@@ -2,7 +2,7 @@
 //! and body overhangs.
 //!
 //! Defaults follow the Auxerre traffic behind the Eurocode LM1 calibration (Grave-type
-//! model as in Caprani's BTLS; SENSORS.md section 4) where that reference gives a value;
+//! model as in Caprani's BTLS; docs/sensors.md section 4) where that reference gives a value;
 //! every other value is an engineering estimate and is marked "estimated" below.
 
 use rand::RngExt;
@@ -429,7 +429,7 @@ fn car() -> ClassModel {
     }
 }
 
-/// Two-axle rigid truck: spacing 5.53 +/- 0.51 m and shares 1/3 : 2/3 (SENSORS.md 4);
+/// Two-axle rigid truck: spacing 5.53 +/- 0.51 m and shares 1/3 : 2/3 (docs/sensors.md 4);
 /// weight 0.6 x N(8.5, 2.0) + 0.4 x N(14, 2.5) t in [3.5, 22] t (empty to the 18 t limit
 /// plus overloads) and overhangs 1.4 / 2.6 m are estimated.
 fn truck_2axle() -> ClassModel {
@@ -483,7 +483,7 @@ fn truck_4axle() -> ClassModel {
 }
 
 /// Five-axle articulated truck: weight 0.16 x N(29.6, 5.5) + 0.834 x N(41.2, 5.5) t (the
-/// shares renormalised to sum 1) and spacing means 3.24, 5.43, 1.20, 1.21 m (SENSORS.md 4);
+/// shares renormalised to sum 1) and spacing means 3.24, 5.43, 1.20, 1.21 m (docs/sensors.md 4);
 /// truncation [12, 60] t (empty tractor-trailer to 40 t plus heavy overloads), spacing sds
 /// 0.2 / 0.6 / 0.05 / 0.05 m, shares 0.16 / 0.27 / 0.19 x 3 and overhangs 1.4 / 4.0 m
 /// (16.5 m, the EU limit) are estimated.

@@ -11,7 +11,7 @@
 //!   the vehicle ahead to the follower's front is at least `min_gap_s` times the
 //!   follower's speed, the vehicle ahead taken at its constant speed. A faster follower
 //!   enters later rather than driving slower, so speeds keep their distribution.
-//! - Classes, weights, axle spacings and load shares: `class` (Auxerre defaults, SENSORS.md
+//! - Classes, weights, axle spacings and load shares: `class` (Auxerre defaults, docs/sensors.md
 //!   section 4).
 //! - Randomness: lane `i` draws only from `child_rng(seed, "traffic/lane/<i>")`, so adding
 //!   a lane never changes another lane's vehicles (only the ids, which count in entry order

@@ -13,16 +13,16 @@ pub const HOURS_PER_DAY: usize = 24;
 /// Default hourly flow factors, hour 0 = 00:00-01:00 local time: a weekday two-peak shape
 /// (morning peak 08:00, evening peak 16:00-18:00 at 1.65, night minimum 0.17 at
 /// 02:00-04:00), the shape of inter-urban counts such as the day/night pattern of
-/// SENSORS.md section 5 (estimated, not a measured site). The factors sum to 24 (mean 1).
+/// docs/sensors.md section 5 (estimated, not a measured site). The factors sum to 24 (mean 1).
 pub const DEFAULT_HOURLY_PROFILE: [f64; HOURS_PER_DAY] = [
     0.25, 0.2, 0.17, 0.17, 0.22, 0.45, 1.0, 1.55, 1.65, 1.5, 1.35, 1.35, 1.4, 1.4, 1.45, 1.5, 1.65,
     1.65, 1.4, 1.2, 0.95, 0.65, 0.5, 0.39,
 ];
 
-/// Default share of cars among all vehicles (SENSORS.md section 4: ~80 %).
+/// Default share of cars among all vehicles (docs/sensors.md section 4: ~80 %).
 pub const DEFAULT_CAR_SHARE: f64 = 0.8;
 
-/// Default split of the trucks (Auxerre, direction 1; SENSORS.md section 4): 2-axle 23 %,
+/// Default split of the trucks (Auxerre, direction 1; docs/sensors.md section 4): 2-axle 23 %,
 /// 3-axle 2.8 %, 4-axle 31.7 %, 5-axle 42.5 %.
 pub const DEFAULT_TRUCK_SPLIT: [(VehicleClass, f64); 4] = [
     (VehicleClass::Truck2Axle, 0.23),
@@ -31,7 +31,7 @@ pub const DEFAULT_TRUCK_SPLIT: [(VehicleClass, f64); 4] = [
     (VehicleClass::Artic5Axle, 0.425),
 ];
 
-/// Default mean speed: 89 km/h (Auxerre, SENSORS.md section 4).
+/// Default mean speed: 89 km/h (Auxerre, docs/sensors.md section 4).
 pub const DEFAULT_SPEED_MEAN_M_S: f64 = 89.0 / 3.6;
 /// Default speed standard deviation: 3.6 km/h = 1 m/s (Auxerre).
 pub const DEFAULT_SPEED_SD_M_S: f64 = 1.0;

@@ -1,5 +1,5 @@
 //! Tractor + semi-trailer in the pitch plane: two rigid bodies (bounce, pitch) joined by a
-//! hinge at the fifth wheel, one unsprung mass per axle (SENSORS.md section 4).
+//! hinge at the fifth wheel, one unsprung mass per axle (docs/sensors.md section 4).
 //!
 //! The hinge makes the kingpin point move vertically with the fifth-wheel point of the
 //! tractor while both bodies pitch freely. The constraint is eliminated rather than

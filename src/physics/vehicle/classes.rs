@@ -6,13 +6,13 @@
 //! | class | kind | bodies: mass (kg), pitch inertia (kg m^2), CG behind front axle (m) | axle spacing (m) | axle mass (kg) | k_susp (kN/m) | k_tyre (kN/m) | static loads (kN) | modes (Hz) | source |
 //! |---|---|---|---|---|---|---|---|---|---|
 //! | `car` | rigid_truck | 1 230, 1 900, 1.10 | 2.60 | 90/80 | 50/45 | 400/400 | 7.8/5.9 | 1.27, 1.43, 11.3, 11.9 | estimate (1) |
-//! | `truck_2axle` | rigid_truck | 17 735, 1.47e5, 2.135 | 4.27 | 1 500/1 000 | 2 470/4 230 | 3 740/4 600 | 101.7/96.8 | 1.62, 2.31, 10.4, 15.1 | PHYSICS.md 6 `two_axle_truck` |
+//! | `truck_2axle` | rigid_truck | 17 735, 1.47e5, 2.135 | 4.27 | 1 500/1 000 | 2 470/4 230 | 3 740/4 600 | 101.7/96.8 | 1.62, 2.31, 10.4, 15.1 | docs/physics.md 6 `two_axle_truck` |
 //! | `truck_3axle` | rigid_truck | 23 400, 1.9e5, 3.75 | 4.50, 1.35 | 600/1 000/1 000 | 800/1 500/1 500 | 2 000/3 500/3 500 | 68.1/97.5/89.5 | 1.29, 1.72, 10.9, 11.3, 11.3 | estimate (2) |
 //! | `truck_4axle` | rigid_truck | 28 600, 2.4e5, 3.50 | 1.90, 3.30, 1.35 | 600/600/1 100/1 100 | 800/800/1 500/1 500 | 2 000/2 000/3 500/3 500 | 76.6/66.9/91.6/78.9 | 1.36, 1.80, 10.7, 10.8, 10.9, 10.9 | estimate (2) |
-//! | `artic_5axle` | articulated | tractor 4 500, 4 604, 0.54; trailer 31 450, 16 302, 7.64; fifth wheel 2.89 | 3.24, 5.43, 1.20, 1.21 | 700/1 100/750/750/750 | 400/1 000/750/750/750 | 1 750/3 500 x4 | 54.3/105.8/78.8/77.5/76.2 | 1.42, 1.60, 4.96, 8.85, 10.5, 12.0, 12.0, 12.1 | VBI-2D `Vehicle_2A3` (SENSORS.md 4) on the Auxerre spacings; CGs, fifth wheel: estimates (3) |
+//! | `artic_5axle` | articulated | tractor 4 500, 4 604, 0.54; trailer 31 450, 16 302, 7.64; fifth wheel 2.89 | 3.24, 5.43, 1.20, 1.21 | 700/1 100/750/750/750 | 400/1 000/750/750/750 | 1 750/3 500 x4 | 54.3/105.8/78.8/77.5/76.2 | 1.42, 1.60, 4.96, 8.85, 10.5, 12.0, 12.0, 12.1 | VBI-2D `Vehicle_2A3` (docs/sensors.md 4) on the Auxerre spacings; CGs, fifth wheel: estimates (3) |
 //!
 //! Damping: `car` 3.0/2.4 kN s/m suspension (about 25 % of critical on the body), 0.2 kN
-//! s/m tyres (estimates); `truck_2axle` as PHYSICS.md; the other trucks 0.01 s x k_susp
+//! s/m tyres (estimates); `truck_2axle` as docs/physics.md; the other trucks 0.01 s x k_susp
 //! (the `truck_2axle` ratio) and 10 kN s/m per axle's tyres (VBI-2D).
 //!
 //! (1) A 1 400 kg family car, 57 % of its weight on the front axle, two 200 kN/m tyres
@@ -25,7 +25,7 @@
 //! moved onto these spacings.
 //!
 //! Modes on a rigid road; `tests/multi_axle.rs` pins them. Body bounce/pitch lie in
-//! 1-4 Hz (SENSORS.md section 4) except the light tractor's pitch on its stiff drive axle
+//! 1-4 Hz (docs/sensors.md section 4) except the light tractor's pitch on its stiff drive axle
 //! (4.96 Hz); axle hop lies in 10-20 Hz except `artic_5axle`'s steer axle (8.85 Hz):
 //! VBI-2D's soft steer suspension on a 700 kg axle gives that.
 //! Tandem/tridem axles have independent springs (no load-equalising bogie), so their

@@ -1,5 +1,5 @@
 //! Vehicle models built as `VehicleDynamics`: sprung mass, quarter car, and the rigid
-//! pitch-plane body on n axles (the 4-DOF half car is n = 2; PHYSICS.md section 6).
+//! pitch-plane body on n axles (the 4-DOF half car is n = 2; docs/physics.md section 6).
 
 use nalgebra::{DMatrix, DVector};
 
@@ -71,7 +71,7 @@ pub fn quarter_car(body_mass_kg: f64, axle: AxleParams) -> VehicleDynamics {
 ///
 /// `axle_offsets_m` are distances behind the front axle, `cg_behind_front_m` the centre of
 /// gravity's. The signed lever of axle j is `d_j = cg - offset_j` (positive ahead of the
-/// CG), the body point above it moves `y_B + d_j theta`, and the stiffness is PHYSICS.md's
+/// CG), the body point above it moves `y_B + d_j theta`, and the stiffness is docs/physics.md's
 /// `[[sum k, sum k d, -k_j], [., sum k d^2, -k_j d_j], [-k_j, -k_j d_j, k_j]]` (tyres excluded).
 pub fn rigid_body_on_axles(
     name: &str,

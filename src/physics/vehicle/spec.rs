@@ -53,7 +53,7 @@ pub enum VehicleModelSpec {
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct HalfCarSpec {
-    /// `two_axle_truck` or `vbi2d_e01` (PHYSICS.md section 6).
+    /// `two_axle_truck` or `vbi2d_e01` (docs/physics.md section 6).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub preset: Option<String>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -84,7 +84,7 @@ impl HalfCarSpec {
     /// The preset's full parameter set.
     pub fn preset(name: &str) -> Option<HalfCarSpec> {
         match name {
-            // Commonly attributed to Law & Zhu (2004); PHYSICS.md section 6. CG assumed at
+            // Commonly attributed to Law & Zhu (2004); docs/physics.md section 6. CG assumed at
             // mid-wheelbase.
             "two_axle_truck" => Some(HalfCarSpec {
                 preset: Some(name.into()),

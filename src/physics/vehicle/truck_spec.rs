@@ -138,13 +138,13 @@ pub const RIGID_TRUCK_PRESETS: [&str; 4] = ["car", "truck_2axle", "truck_3axle",
 pub const ARTICULATED_PRESETS: [&str; 1] = ["artic_5axle"];
 
 /// Axle counts `kind = "rigid_truck"` accepts: the rigid classes of the traffic mix
-/// (more axles are articulated vehicles in SENSORS.md section 4).
+/// (more axles are articulated vehicles in docs/sensors.md section 4).
 const RIGID_AXLES: std::ops::RangeInclusive<usize> = 2..=4;
 
 /// Suspension damping of the truck presets as a multiple of their suspension stiffness (s):
-/// the ratio of the `two_axle_truck` preset (3.0e4 / 2.47e6, 4.0e4 / 4.23e6; PHYSICS.md
+/// the ratio of the `two_axle_truck` preset (3.0e4 / 2.47e6, 4.0e4 / 4.23e6; docs/physics.md
 /// section 6). VBI-2D's `Vehicle_2A3` uses 1 kN s/m, which leaves the body modes ~1 %
-/// damped, too little for dynamic load statistics (PHYSICS.md section 6, E01 note).
+/// damped, too little for dynamic load statistics (docs/physics.md section 6, E01 note).
 const SUSPENSION_DAMPING_S: f64 = 0.01;
 
 /// Tyre damping of the truck presets (N s/m per axle): VBI-2D `Vehicle_2A3`.
@@ -185,7 +185,7 @@ impl RigidTruckSpec {
                     &[200.0, 200.0],
                 ),
             ),
-            // PHYSICS.md section 6 `two_axle_truck` (commonly attributed to Law & Zhu 2004).
+            // docs/physics.md section 6 `two_axle_truck` (commonly attributed to Law & Zhu 2004).
             "truck_2axle" => (
                 17_735.0,
                 1.47e5,
@@ -283,7 +283,7 @@ impl ArticulatedSpec {
     /// The preset's full parameter set (table and sources in `classes.rs`).
     pub fn preset(name: &str) -> Option<ArticulatedSpec> {
         match name {
-            // VBI-2D `Vehicle_2A3` (SENSORS.md section 4) on the Auxerre 5-axle spacings.
+            // VBI-2D `Vehicle_2A3` (docs/sensors.md section 4) on the Auxerre 5-axle spacings.
             // CGs and fifth wheel are estimates: VBI-2D's geometry (tractor CG 0.5 m behind
             // the steer axle of a 3.0 m wheelbase, fifth wheel 0.35 m ahead of the drive
             // axle, trailer CG at 0.68 of the kingpin-to-tridem-centre distance) moved

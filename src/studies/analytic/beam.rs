@@ -192,7 +192,7 @@ mod tests {
     #[test]
     fn frequencies_match_physics_md() {
         let beam = paper_beam();
-        // PHYSICS.md section 1 prints f1..f3 = 3.780, 15.12, 34.02 Hz to 4 digits.
+        // docs/physics.md section 1 prints f1..f3 = 3.780, 15.12, 34.02 Hz to 4 digits.
         assert!((beam.natural_frequency_hz(1) - 3.780).abs() < 5e-4);
         assert!((beam.natural_frequency_hz(2) - 15.12).abs() < 5e-3);
         assert!((beam.natural_frequency_hz(3) - 34.02).abs() < 5e-3);

@@ -170,7 +170,7 @@ mod tests {
 
     #[test]
     fn newmark_period_elongation_matches_physics_md() {
-        // PHYSICS.md section 4: 0.13 % at dt/T = 0.02, 3.2 % at dt/T = 0.1.
+        // docs/physics.md section 4: 0.13 % at dt/T = 0.02, 3.2 % at dt/T = 0.1.
         let w = 2.0 * std::f64::consts::PI;
         let e1 = newmark_average_acceleration_period_ratio(w, 0.02) - 1.0;
         let e2 = newmark_average_acceleration_period_ratio(w, 0.1) - 1.0;

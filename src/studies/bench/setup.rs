@@ -29,7 +29,7 @@ pub const BENCH_MODES: usize = 10;
 /// The level road of the timed steps (the road does not change the cost of a step).
 pub static ROAD: LevelRoad = LevelRoad;
 
-/// The `two_axle_truck` half car (PHYSICS.md section 6).
+/// The `two_axle_truck` half car (docs/physics.md section 6).
 pub fn truck() -> Result<VehicleDynamics> {
     VehicleModelSpec::HalfCar(HalfCarSpec {
         preset: Some("two_axle_truck".into()),

@@ -49,7 +49,7 @@ pub fn frequencies() -> Result<Vec<CheckRow>> {
         let model = BridgeModel::build(&beam, &spec, 0.0)?;
         for n in 1..=3 {
             let exact = beam.closed_form_frequency_hz(n);
-            // Lumping the mass errs at O((n h / L)^2): PHYSICS.md states 0.2 % for N = 7
+            // Lumping the mass errs at O((n h / L)^2): docs/physics.md states 0.2 % for N = 7
             // (h = L/8) on f1..f3, so the bound scales as 0.2 % (8 / (N + 1))^2. Hermite
             // elements with consistent mass err at O((n h / L)^4); the leading term is
             // below (n pi h / L)^4 / 720 (Rayleigh quotient of the cubic interpolant), and
@@ -239,7 +239,7 @@ pub fn moving_force() -> Result<Vec<CheckRow>> {
     Ok(rows)
 }
 
-/// Undamped midspan DAF vs alpha = v / (2 f1 L), against PHYSICS.md's table.
+/// Undamped midspan DAF vs alpha = v / (2 f1 L), against docs/physics.md's table.
 pub fn daf_table() -> Result<Vec<CheckRow>> {
     let beam = BeamProperties::paper_default();
     let f1 = beam.closed_form_frequency_hz(1);
@@ -271,7 +271,7 @@ pub fn daf_table() -> Result<Vec<CheckRow>> {
         rows.push(CheckRow::with_error(
             "daf",
             format!("undamped midspan DAF alpha={alpha} finite_element n=20"),
-            "PHYSICS.md table",
+            "docs/physics.md table",
             table,
             daf,
             (daf - table).abs(),

@@ -1,7 +1,7 @@
 //! Checks of the coupled vehicle-bridge solver (VBI) and the road input: equilibrium,
 //! static loads, harmonic response on a rigid road, the sprung mass crossing a beam, the
 //! moving-force and moving-mass limits, a 20 t truck, ISO 8608 statistics and unilateral
-//! contact. PHYSICS.md sections 6-9.
+//! contact. docs/physics.md sections 6-9.
 //!
 //! Sign conventions: the solver is upward positive, the analytical module downward
 //! positive; every comparison below negates the solver's deflections.
@@ -40,7 +40,7 @@ use crate::studies::analytic::{
 // Shared set-up
 // ---------------------------------------------------------------------------------------
 
-/// The VBI-2D verification beam (PHYSICS.md section 6): 25 m, E 3.5e10 Pa, I 1.3901 m^4,
+/// The VBI-2D verification beam (docs/physics.md section 6): 25 m, E 3.5e10 Pa, I 1.3901 m^4,
 /// m 18 358 kg/m (f1 = 4.09 Hz).
 fn vbi_beam() -> BeamProperties {
     BeamProperties {
@@ -926,7 +926,7 @@ pub fn truck_vs_moving_forces() -> Result<Vec<CheckRow>> {
 // 7. ISO 8608 road profiles
 // ---------------------------------------------------------------------------------------
 
-/// ISO 8608 synthesis: the closed-form band RMS against PHYSICS.md's table, the RMS of
+/// ISO 8608 synthesis: the closed-form band RMS against docs/physics.md's table, the RMS of
 /// generated profiles (classes A-D, 8 seeds of 4 km each) against it, and the Welch PSD
 /// of all 32 profiles (each divided by its class's sqrt(G_d(n0))) against the target in
 /// octave bands.
@@ -958,7 +958,7 @@ pub fn road_profiles() -> Result<Vec<CheckRow>> {
         rows.push(CheckRow::with_error(
             GROUP,
             format!("band rms class {}", class.letter()),
-            "PHYSICS.md table (mm)",
+            "docs/physics.md table (mm)",
             table_mm,
             1e3 * target_m,
             (1e3 * target_m - table_mm).abs(),

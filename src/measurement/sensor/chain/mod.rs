@@ -1,4 +1,4 @@
-//! Measurement-chain stages and sensor presets (SENSORS.md section 2).
+//! Measurement-chain stages and sensor presets (docs/sensors.md section 2).
 //!
 //! A sensor's chain, after the true response (in this order):
 //!

@@ -1,6 +1,6 @@
 //! Sensor presets: datasheet-class parameters of the measurement chain per sensor type.
 //!
-//! Figures come from SENSORS.md sections 1-2 and the cited datasheets; those marked
+//! Figures come from docs/sensors.md sections 1-2 and the cited datasheets; those marked
 //! *estimate* are engineering estimates, not datasheet values. Accelerometer values are
 //! given in g and converted with standard gravity, strain values are in microstrain.
 
@@ -259,7 +259,7 @@ fn mems_lownoise() -> ChainParameters {
     }
 }
 
-/// PCB 393B04 class: AC-coupled, -3 dB at 0.06 Hz; ~3 ug rms broadband (SENSORS.md,
+/// PCB 393B04 class: AC-coupled, -3 dB at 0.06 Hz; ~3 ug rms broadband (docs/sensors.md,
 /// estimate) modelled as 0.12 ug/sqrt(Hz) white with a 10 Hz 1/f corner (estimate):
 /// over 0.06..450 Hz that is `0.12 sqrt(450 + 10 ln(450 / 0.06))` = 2.8 ug rms. Range
 /// +/-5 g (the sensor's, 1 V/g into a +/-5 V 24-bit DAQ). Calibrated sensitivity sigma 1 %
@@ -334,7 +334,7 @@ fn mems_consumer() -> ChainParameters {
     }
 }
 
-/// Foil gauge, quarter bridge, 24-bit DAQ (SENSORS.md section 2, estimates): 0.2..1 ue rms
+/// Foil gauge, quarter bridge, 24-bit DAQ (docs/sensors.md section 2, estimates): 0.2..1 ue rms
 /// at ~1 kHz; taking 0.5 ue rms over the 500 Hz band of a 1 kHz record gives
 /// 0.5 / sqrt(500) = 0.0224 ue/sqrt(Hz). Apparent thermal strain 1..2 ue/degC: 1.5.
 /// Gauge-factor tolerance +/-1 % (foil gauge data sheets), used as sigma. Bridge balanced
