@@ -19,7 +19,7 @@ use crate::physics::bridge::{BridgeModel, ModelSpec, PointQuantity, SparseVec};
 use crate::physics::excitation::{AmbientField, AMBIENT_STREAM};
 use crate::physics::road::RoadProfile;
 use crate::physics::solver::{
-    CoupledSolver, CoupledVehicle, NewmarkCoefficients, RoadSurface, SolveMode, Storage,
+    CoupledSolver, CoupledVehicle, NewmarkCoefficients, SolveMode, Storage,
 };
 use crate::scenario::{Resolved, SensorKind};
 
@@ -32,15 +32,6 @@ use condition::{Condition, SensorTemperature};
 pub use daq::chain_stages;
 pub use tap::SensorTap;
 use tracking::Tracker;
-
-impl RoadSurface for RoadProfile {
-    fn elevation_m(&self, x_m: f64) -> f64 {
-        RoadProfile::elevation_m(self, x_m)
-    }
-    fn slope(&self, x_m: f64) -> f64 {
-        RoadProfile::slope(self, x_m)
-    }
-}
 
 /// Headline results of a run.
 #[derive(Debug, Clone)]

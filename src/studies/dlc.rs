@@ -27,10 +27,10 @@ use crate::physics::bridge::{
     unit_load_deflection_m_per_n, BeamProperties, BridgeModel, LumpedStiffness, ModelSpec,
     PointQuantity, SparseVec,
 };
-use crate::physics::road::{IsoClass, RoadProfile, RoadProfileSpec};
+use crate::physics::road::{IsoClass, RoadProfile, RoadProfileSpec, RoadSurface};
 use crate::physics::solver::{
-    ContactLaw, CoupledSolver, CoupledVehicle, NewmarkCoefficients, NewmarkParams, RoadSurface,
-    SolveMode, Storage,
+    ContactLaw, CoupledSolver, CoupledVehicle, NewmarkCoefficients, NewmarkParams, SolveMode,
+    Storage,
 };
 use crate::physics::vehicle::{HalfCarSpec, VehicleDynamics, VehicleModelSpec};
 use crate::studies::plot::{Chart, Figure, Scale, Series};
@@ -147,17 +147,12 @@ impl DlcSetup {
 
     /// The road of realisation `realisation` of `surface`, over every x the truck visits
     /// (the range does not depend on the speed, so neither does the realisation).
-    pub fn road(&self, surface: Surface, realisation: usize) -> Result<Road> {
+    pub fn road(&self, surface: Surface, realisation: usize) -> Result<RoadProfile> {
         let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
         rng.set_stream((surface.stream() << 32) | realisation as u64);
         let end_m = self.beam.span_m + ROAD_PAST_BRIDGE_M;
         let start_m = -self.approach_m - 10.0;
-        Ok(Road(RoadProfile::build(
-            &surface.spec(),
-            start_m,
-            end_m,
-            &mut rng,
-        )?))
+        RoadProfile::build(&surface.spec(), start_m, end_m, &mut rng)
     }
 }
 
@@ -167,18 +162,6 @@ const FREE_TIME_S: f64 = 1.0;
 /// Road modelled past the bridge end (m): the front axle reaches at most
 /// wheelbase + 30 m/s x `FREE_TIME_S` < 40 m past it; the profile is clamped beyond.
 const ROAD_PAST_BRIDGE_M: f64 = 60.0;
-
-/// A road profile as the solver's road surface.
-pub struct Road(pub RoadProfile);
-
-impl RoadSurface for Road {
-    fn elevation_m(&self, x_m: f64) -> f64 {
-        self.0.elevation_m(x_m)
-    }
-    fn slope(&self, x_m: f64) -> f64 {
-        self.0.slope(x_m)
-    }
-}
 
 /// What one crossing gives. Forces are total tyre forces over the static axle load, taken
 /// while the axle is on the span; the bridge peaks are at midspan over the whole run.

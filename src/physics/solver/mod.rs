@@ -7,7 +7,7 @@ mod direct;
 mod linear;
 mod newmark;
 
-pub use coupled::{ContactLaw, CoupledSolver, CoupledVehicle, LevelRoad, RoadSurface};
+pub use coupled::{ContactLaw, CoupledSolver, CoupledVehicle};
 pub use direct::DirectSolver;
 pub use linear::{to_csc, Factor, Operator, SmallLu, Storage};
 pub use newmark::{Newmark, NewmarkCoefficients, NewmarkParams, SolveMode, State};

@@ -6,9 +6,10 @@ use std::time::Instant;
 
 use crate::error::{Error, Result};
 use crate::physics::bridge::{BridgeModel, PointQuantity, SparseVec};
+use crate::physics::road::RoadSurface;
 use crate::physics::solver::{
-    ContactLaw, CoupledSolver, CoupledVehicle, NewmarkCoefficients, NewmarkParams, RoadSurface,
-    SolveMode, Storage,
+    ContactLaw, CoupledSolver, CoupledVehicle, NewmarkCoefficients, NewmarkParams, SolveMode,
+    Storage,
 };
 use crate::physics::vehicle::VehicleDynamics;
 

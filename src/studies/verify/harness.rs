@@ -8,9 +8,10 @@ use nalgebra::DVector;
 
 use crate::error::Result;
 use crate::physics::bridge::{BeamProperties, BridgeModel, ModelSpec, PointQuantity, SparseVec};
+use crate::physics::road::LevelRoad;
 use crate::physics::solver::{
-    ContactLaw, CoupledSolver, CoupledVehicle, LevelRoad, Newmark, NewmarkCoefficients,
-    NewmarkParams, SolveMode, Storage,
+    ContactLaw, CoupledSolver, CoupledVehicle, Newmark, NewmarkCoefficients, NewmarkParams,
+    SolveMode, Storage,
 };
 use crate::physics::vehicle::VehicleDynamics;
 

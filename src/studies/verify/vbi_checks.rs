@@ -20,12 +20,13 @@ use crate::physics::bridge::{
     BeamProperties, BridgeModel, LumpedStiffness, ModelSpec, PointQuantity, SparseVec,
 };
 use crate::physics::road::{
-    iso8608_band_rms_m, iso8608_psd_m3, IsoClass, RoadProfile, RoadProfileSpec,
-    DEFAULT_N1_CYCLES_M, DEFAULT_N2_CYCLES_M, DEFAULT_SAMPLE_SPACING_M,
+    iso8608_band_rms_m, iso8608_psd_m3, ConstantRoad, IsoClass, LevelRoad, RoadProfile,
+    RoadProfileSpec, RoadSurface, SineRoad, DEFAULT_N1_CYCLES_M, DEFAULT_N2_CYCLES_M,
+    DEFAULT_SAMPLE_SPACING_M,
 };
 use crate::physics::solver::{
-    ContactLaw, CoupledSolver, CoupledVehicle, LevelRoad, NewmarkCoefficients, NewmarkParams,
-    RoadSurface, SolveMode, Storage,
+    ContactLaw, CoupledSolver, CoupledVehicle, NewmarkCoefficients, NewmarkParams, SolveMode,
+    Storage,
 };
 use crate::physics::vehicle::{
     sprung_mass, HalfCarSpec, VehicleDynamics, VehicleModelSpec, GRAVITY_M_S2,
@@ -100,51 +101,10 @@ fn max_abs(values: impl IntoIterator<Item = f64>) -> f64 {
     values.into_iter().fold(0.0, |m, v| m.max(v.abs()))
 }
 
-/// A road at constant elevation.
-struct ConstantRoad(f64);
-
-impl RoadSurface for ConstantRoad {
-    fn elevation_m(&self, _x_m: f64) -> f64 {
-        self.0
-    }
-    fn slope(&self, _x_m: f64) -> f64 {
-        0.0
-    }
-}
-
-/// `r(x) = A sin(k x)`.
-struct SineRoad {
-    amplitude_m: f64,
-    wavenumber_rad_m: f64,
-}
-
-impl RoadSurface for SineRoad {
-    fn elevation_m(&self, x_m: f64) -> f64 {
-        self.amplitude_m * (self.wavenumber_rad_m * x_m).sin()
-    }
-    fn slope(&self, x_m: f64) -> f64 {
-        self.amplitude_m * self.wavenumber_rad_m * (self.wavenumber_rad_m * x_m).cos()
-    }
-}
-
-/// A built road profile seen by the solver.
-struct ProfileRoad(RoadProfile);
-
-impl RoadSurface for ProfileRoad {
-    fn elevation_m(&self, x_m: f64) -> f64 {
-        self.0.elevation_m(x_m)
-    }
-    fn slope(&self, x_m: f64) -> f64 {
-        self.0.slope(x_m)
-    }
-}
-
-fn deterministic_road(spec: &RoadProfileSpec, x_start_m: f64, x_end_m: f64) -> Result<ProfileRoad> {
+fn deterministic_road(spec: &RoadProfileSpec, x_start_m: f64, x_end_m: f64) -> Result<RoadProfile> {
     // Deterministic shapes draw nothing from the generator.
     let mut rng = ChaCha8Rng::seed_from_u64(0);
-    Ok(ProfileRoad(RoadProfile::build(
-        spec, x_start_m, x_end_m, &mut rng,
-    )?))
+    RoadProfile::build(spec, x_start_m, x_end_m, &mut rng)
 }
 
 // ---------------------------------------------------------------------------------------
@@ -160,7 +120,9 @@ pub fn approach_equilibrium() -> Result<Vec<CheckRow>> {
     let mut rows = Vec::new();
     for preset in ["two_axle_truck", "vbi2d_e01"] {
         for raise_m in [0.0, 0.05] {
-            let road = ConstantRoad(raise_m);
+            let road = ConstantRoad {
+                elevation_m: raise_m,
+            };
             let mut solver = coupled(&model, &road, 1e-3, ContactLaw::Full)?;
             let vehicle = half_car(preset, None)?;
             // A raised rigid road translates every DOF by the same amount (no pitch).
