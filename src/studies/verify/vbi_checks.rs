@@ -26,7 +26,7 @@ use crate::physics::road::{
 };
 use crate::physics::solver::{
     ContactLaw, CoupledSolver, CoupledVehicle, NewmarkCoefficients, NewmarkParams, SolveMode,
-    Storage,
+    Stepper, Storage,
 };
 use crate::physics::vehicle::{
     sprung_mass, HalfCarSpec, VehicleDynamics, VehicleModelSpec, GRAVITY_M_S2,
@@ -36,6 +36,7 @@ use crate::studies::analytic::{
     harmonic_response, ModalDamping, MovingForceSolution, MovingLoadTrain, RoadIrregularity,
     SimplySupportedBeam, SprungMassOptions, SprungMassProblem, SprungMassVehicle,
 };
+use crate::studies::DIVERGENCE_HINT;
 
 // ---------------------------------------------------------------------------------------
 // Shared set-up
@@ -130,8 +131,9 @@ pub fn approach_equilibrium() -> Result<Vec<CheckRow>> {
             let statics: Vec<f64> = vehicle.axles.iter().map(|a| a.static_load_n).collect();
             solver.add_vehicle(CoupledVehicle::new(0, vehicle, 20.0, -400.0, 0));
             let (mut max_y, mut max_force) = (0.0f64, 0.0f64);
+            let stepper = Stepper::new(&model, DIVERGENCE_HINT);
             for _ in 0..5000 {
-                solver.advance()?;
+                stepper.advance(&mut solver)?;
                 let v = &solver.vehicles[0];
                 max_y = max_y.max(max_abs((&v.state.u - &expected).iter().copied()));
                 for (f, s) in v.contact_force_n.iter().zip(&statics) {
@@ -239,8 +241,9 @@ fn crawl_rows(group: &str) -> Result<Vec<CheckRow>> {
     let mut op = SparseVec::with_capacity(model.n_dof());
     let (mut sum_force, mut sum_w, mut sum_w_static, mut count) = (0.0, 0.0, 0.0, 0usize);
     let mut max_dev = 0.0f64;
+    let stepper = Stepper::new(&model, DIVERGENCE_HINT);
     for step in 1..=steps {
-        solver.advance()?;
+        stepper.advance(&mut solver)?;
         if !(on_from..=on_to).contains(&first_front(step)) {
             continue;
         }
@@ -455,8 +458,9 @@ pub fn sine_road_response() -> Result<Vec<CheckRow>> {
         let settle_steps = (settle_s / dt_s).ceil() as u64;
         let fit_steps = (4.0 / dt_s).round() as u64;
         let mut fit = HarmonicFit::new(omega, 6);
+        let stepper = Stepper::new(&model, DIVERGENCE_HINT);
         for step in 1..=settle_steps + fit_steps {
-            solver.advance()?;
+            stepper.advance(&mut solver)?;
             if step > settle_steps {
                 let v = &solver.vehicles[0];
                 let values = [
@@ -541,8 +545,9 @@ fn sprung_mass_history(
     let steps = (span / (speed_m_s * dt_s)).round() as u64;
     let mut op = SparseVec::with_capacity(model.n_dof());
     let mut history = vec![0.0];
+    let stepper = Stepper::new(model, DIVERGENCE_HINT);
     for _ in 0..steps {
-        solver.advance()?;
+        stepper.advance(&mut solver)?;
         history.push(-solver.bridge_response(0.5 * span, PointQuantity::Deflection, 0, &mut op));
     }
     Ok(history)
@@ -848,8 +853,9 @@ pub fn truck_vs_moving_forces() -> Result<Vec<CheckRow>> {
             let steps = (travel_m / (speed * dt_s)).ceil() as u64;
             let mut op = SparseVec::with_capacity(model.n_dof());
             let mut value = f64::NEG_INFINITY;
+            let stepper = Stepper::new(&model, DIVERGENCE_HINT);
             for _ in 0..steps {
-                solver.advance()?;
+                stepper.advance(&mut solver)?;
                 value =
                     value.max(-solver.bridge_response(mid, PointQuantity::Deflection, 0, &mut op));
             }
@@ -1048,8 +1054,9 @@ fn bump_run(law: ContactLaw) -> Result<ContactRun> {
     };
     let mut op = SparseVec::with_capacity(model.n_dof());
     let mut was_airborne = [false; 2];
+    let stepper = Stepper::new(&model, DIVERGENCE_HINT);
     for step in 1..=steps {
-        solver.advance()?;
+        stepper.advance(&mut solver)?;
         run.midspan_m.push(solver.bridge_response(
             0.5 * beam.span_m,
             PointQuantity::Deflection,
