@@ -1,6 +1,7 @@
 //! The study's SVG figures: DLC and sigma/static vs speed per road, convergence with the
 //! model size, the smooth-road responses.
 
+use crate::error::Result;
 use crate::studies::plot::{Chart, Figure, Scale, Series};
 
 use super::stats::rel;
@@ -10,7 +11,7 @@ pub(super) fn cases_of(r: &DlcReport, surface: Surface) -> impl Iterator<Item = 
     r.cases.iter().filter(move |c| c.surface == surface)
 }
 
-pub(super) fn dlc_figure(r: &DlcReport) -> String {
+pub(super) fn dlc_figure(r: &DlcReport) -> Result<String> {
     // One y range for all four charts, so that the classes compare at a glance.
     let top = r
         .cases
@@ -47,7 +48,7 @@ pub(super) fn dlc_figure(r: &DlcReport) -> String {
     Figure::grid(2, 2, &charts)
 }
 
-pub(super) fn sigma_figure(r: &DlcReport) -> String {
+pub(super) fn sigma_figure(r: &DlcReport) -> Result<String> {
     let charts: Vec<Chart> = AXLES
         .iter()
         .enumerate()
@@ -92,7 +93,7 @@ const CONVERGENCE_METRICS: [Metric; 4] = [
 
 /// Relative differences to the finest FE model, on log axes (the absolute values agree
 /// to 5-6 digits and would plot as flat lines).
-pub(super) fn convergence_figure(r: &DlcReport) -> String {
+pub(super) fn convergence_figure(r: &DlcReport) -> Result<String> {
     let reference = r
         .convergence
         .iter()
@@ -128,7 +129,7 @@ pub(super) fn convergence_figure(r: &DlcReport) -> String {
     Figure::grid(2, 2, &charts)
 }
 
-pub(super) fn smooth_figure(r: &DlcReport) -> String {
+pub(super) fn smooth_figure(r: &DlcReport) -> Result<String> {
     let line = |f: &dyn Fn(&SmoothPoint) -> f64| -> Vec<(f64, f64)> {
         r.smooth.iter().map(|p| (p.speed_m_s, f(p))).collect()
     };

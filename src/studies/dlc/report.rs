@@ -119,10 +119,10 @@ pub(super) fn write_outputs(out: &Path, setup: &DlcSetup, r: &DlcReport) -> Resu
     }
     write_file(&out.join("code_comparison.csv"), &csv)?;
 
-    write_svg_file(&out.join("dlc_vs_speed.svg"), &dlc_figure(r))?;
-    write_svg_file(&out.join("sigma_vs_speed.svg"), &sigma_figure(r))?;
-    write_svg_file(&out.join("convergence.svg"), &convergence_figure(r))?;
-    write_svg_file(&out.join("smooth_road.svg"), &smooth_figure(r))?;
+    write_svg_file(&out.join("dlc_vs_speed.svg"), &dlc_figure(r)?)?;
+    write_svg_file(&out.join("sigma_vs_speed.svg"), &sigma_figure(r)?)?;
+    write_svg_file(&out.join("convergence.svg"), &convergence_figure(r)?)?;
+    write_svg_file(&out.join("smooth_road.svg"), &smooth_figure(r)?)?;
     write_file(&out.join("summary.md"), &summary(setup, r))?;
     Ok(())
 }
