@@ -27,8 +27,9 @@ use bridgetwin::physics::bridge::{
     BeamProperties, BridgeModel, ModelSpec, PointQuantity, SparseVec,
 };
 use bridgetwin::physics::excitation::{AmbientField, AmbientSpec, AMBIENT_STREAM};
+use bridgetwin::physics::road::LevelRoad;
 use bridgetwin::physics::solver::{
-    ContactLaw, CoupledSolver, LevelRoad, NewmarkCoefficients, NewmarkParams, SolveMode, Storage,
+    ContactLaw, CoupledSolver, NewmarkCoefficients, NewmarkParams, SolveMode, Storage,
 };
 
 const ZETA: f64 = 0.02;

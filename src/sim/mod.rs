@@ -15,11 +15,13 @@ use std::collections::VecDeque;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use crate::base::random::child_rng;
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::physics::bridge::{BridgeModel, ModelSpec, PointQuantity, SparseVec};
 use crate::physics::excitation::{AmbientField, AMBIENT_STREAM};
 use crate::physics::road::RoadProfile;
-use crate::physics::solver::{CoupledSolver, CoupledVehicle, RoadSurface, SolveMode, Storage};
+use crate::physics::solver::{
+    check_state, divergence_hint, CoupledSolver, CoupledVehicle, SolveMode, Storage,
+};
 use crate::scenario::Resolved;
 
 pub use crate::record::Quantities;
@@ -31,15 +33,6 @@ use condition::{Condition, SensorTemperature};
 pub use manifest::manifest;
 pub use tap::SensorTap;
 use tracking::Tracker;
-
-impl RoadSurface for RoadProfile {
-    fn elevation_m(&self, x_m: f64) -> f64 {
-        RoadProfile::elevation_m(self, x_m)
-    }
-    fn slope(&self, x_m: f64) -> f64 {
-        RoadProfile::slope(self, x_m)
-    }
-}
 
 /// Headline results of a run.
 #[derive(Debug, Clone)]
@@ -247,7 +240,7 @@ pub fn run_controlled(
     let mut shape_ops = vec![SparseVec::default(); model.shape_positions_m().len()];
     let mut midspan = SparseVec::default();
     deflection_operators(model, &mut shape_ops, &mut midspan);
-    let hint = divergence_hint(s);
+    let hint = divergence_hint(&resolved.newmark);
     let mut peak_midspan_m = 0.0f64;
     let mut resyncs = daq::Resyncs::new(resolved);
     let mut ambient = match &s.ambient {
@@ -289,7 +282,7 @@ pub fn run_controlled(
             }
         }
         resyncs.announce_until(t_ns, &mut merger.truth);
-        check_finite(&solver, &shape_ops, step, (dt_s, &hint))?;
+        check_state(&solver, &shape_ops, &hint)?;
         peak_midspan_m = peak_midspan_m.max(midspan.dot(&solver.bridge.state.u).abs());
         for (tap, (d, m, k)) in taps.iter_mut().zip(&ops) {
             tap.push(&quantities(&solver, d, m, *k));
@@ -415,58 +408,6 @@ fn run_progress(
         vehicles_passed: tracker.departed(),
         model_rebuilds,
     }
-}
-
-/// What to try when a run diverges: the likeliest cause first.
-fn divergence_hint(s: &crate::scenario::Scenario) -> String {
-    let nm = s.solver.newmark;
-    let mut hint = String::new();
-    if 2.0 * nm.beta < nm.gamma {
-        hint.push_str(&format!(
-            "solver.newmark (gamma = {}, beta = {}) is only conditionally stable: use \
-             beta >= gamma / 2 (the default 0.5, 0.25 is unconditionally stable); ",
-            nm.gamma, nm.beta
-        ));
-    }
-    hint.push_str(
-        "reduce solver.dt_s, check vehicle and bridge parameters, or use \
-         solver.contact = \"unilateral\"",
-    );
-    hint
-}
-
-/// Steps between runaway checks (the non-finite check runs every step).
-const RUNAWAY_CHECK_STRIDE: u64 = 32;
-
-/// Stops the run on a non-finite or runaway bridge state. The state may be modal
-/// coordinates, so the runaway test reads the physical deflection at the shape nodes.
-fn check_finite(
-    solver: &CoupledSolver,
-    shape_ops: &[SparseVec],
-    step: u64,
-    (dt_s, hint): (f64, &str),
-) -> Result<()> {
-    let u = &solver.bridge.state.u;
-    let diverged = |quantity: &str, value: f64| Error::Divergence {
-        time_s: step as f64 * dt_s,
-        step,
-        quantity: quantity.into(),
-        value,
-        hint: hint.into(),
-    };
-    if let Some(bad) = u.iter().find(|v| !v.is_finite()) {
-        return Err(diverged("bridge state (non-finite)", *bad));
-    }
-    if step.is_multiple_of(RUNAWAY_CHECK_STRIDE) {
-        let worst = shape_ops
-            .iter()
-            .fold(0.0f64, |a, op| a.max(op.dot(u).abs()));
-        // A deflection of a tenth of the span is far beyond any linear response.
-        if worst > 0.1 * solver.model.span_m() {
-            return Err(diverged("bridge deflection (m)", worst));
-        }
-    }
-    Ok(())
 }
 
 /// Merges the sensor streams (each late by its filter latency) with the truth stream.

@@ -135,11 +135,11 @@ fn write_outputs(out: &Path, points: &[DiscretizationPoint]) -> Result<()> {
         );
     }
     write_file(&out.join("discretization.csv"), &csv)?;
-    write_svg_file(&out.join("error_vs_n.svg"), &error_figure(points))?;
-    write_svg_file(&out.join("time_vs_n.svg"), &time_chart(points).to_svg())?;
+    write_svg_file(&out.join("error_vs_n.svg"), &error_figure(points)?)?;
+    write_svg_file(&out.join("time_vs_n.svg"), &time_chart(points).to_svg()?)?;
     write_svg_file(
         &out.join("time_ratio_vs_n.svg"),
-        &ratio_chart(points).to_svg(),
+        &ratio_chart(points).to_svg()?,
     )?;
     write_file(&out.join("summary.md"), &summary(points))?;
     Ok(())
@@ -165,7 +165,7 @@ fn dts_of(points: &[DiscretizationPoint]) -> Vec<f64> {
     dts
 }
 
-fn error_figure(points: &[DiscretizationPoint]) -> String {
+fn error_figure(points: &[DiscretizationPoint]) -> Result<String> {
     let charts: Vec<Chart> = [("0.3 L", 0usize), ("0.5 L", 1usize)]
         .iter()
         .map(|&(label, which)| {

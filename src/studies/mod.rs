@@ -14,6 +14,10 @@ use std::path::Path;
 
 use crate::error::{Error, Result};
 
+/// The end of a divergence message in the studies and the verification ladder: they choose
+/// their own step and models, so those are what to check.
+pub(crate) const DIVERGENCE_HINT: &str = "check dt_s and the model";
+
 /// Runs the named study into `out`; `progress` receives one line per case.
 pub fn run_named(
     name: &str,

@@ -1,5 +1,6 @@
 //! Road profiles: ISO 8608 random roughness, deterministic shapes (step, ramp, bump),
-//! measured profiles from CSV, and the optional tyre-patch filter.
+//! measured profiles from CSV, the optional tyre-patch filter, and the [`RoadSurface`] the
+//! tyres roll on (a built profile or a closed-form surface).
 //!
 //! [`RoadProfileSpec`] is the scenario's configuration; [`RoadProfile::build`] turns it into
 //! a profile over the road range the simulation visits (approach, bridge and exit in one
@@ -11,6 +12,7 @@ mod curve;
 mod iso8608;
 mod profile;
 mod spec;
+mod surface;
 
 pub use profile::RoadProfile;
 pub use spec::{
@@ -18,3 +20,4 @@ pub use spec::{
     DEFAULT_N1_CYCLES_M, DEFAULT_N2_CYCLES_M, DEFAULT_SAMPLE_SPACING_M, N0_CYCLES_M,
     TYRE_PATCH_LENGTH_M,
 };
+pub use surface::{ConstantRoad, LevelRoad, RoadSurface, SineRoad};

@@ -22,27 +22,8 @@ use super::linear::SmallLu;
 use super::newmark::{Newmark, NewmarkCoefficients, SolveMode, State};
 use crate::error::{Error, Result};
 use crate::physics::bridge::{BridgeModel, PointQuantity, SparseVec};
+use crate::physics::road::RoadSurface;
 use crate::physics::vehicle::VehicleDynamics;
-
-/// The road surface the tyres roll on (elevation upward positive, m).
-pub trait RoadSurface {
-    fn elevation_m(&self, x_m: f64) -> f64;
-    /// dr/dx (m/m).
-    fn slope(&self, x_m: f64) -> f64;
-}
-
-/// A level road.
-#[derive(Debug, Clone, Copy, Default)]
-pub struct LevelRoad;
-
-impl RoadSurface for LevelRoad {
-    fn elevation_m(&self, _x_m: f64) -> f64 {
-        0.0
-    }
-    fn slope(&self, _x_m: f64) -> f64 {
-        0.0
-    }
-}
 
 /// Tyre-road contact law.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]

@@ -17,11 +17,12 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use super::coupled::{CoupledVehicle, RoadSurface};
+use super::coupled::CoupledVehicle;
 use super::linear::SmallLu;
 use super::newmark::{NewmarkCoefficients, State};
 use crate::error::Result;
 use crate::physics::bridge::{BridgeModel, PointQuantity, SparseVec};
+use crate::physics::road::RoadSurface;
 
 /// The coupled system solved the paper's way: full assembly and dense LU every step.
 pub struct DirectSolver<'a> {
@@ -341,17 +342,6 @@ mod tests {
     use rand::SeedableRng;
     use rand_chacha::ChaCha8Rng;
 
-    struct Profile(RoadProfile);
-
-    impl RoadSurface for Profile {
-        fn elevation_m(&self, x_m: f64) -> f64 {
-            self.0.elevation_m(x_m)
-        }
-        fn slope(&self, x_m: f64) -> f64 {
-            self.0.slope(x_m)
-        }
-    }
-
     fn truck(start_front_x_m: f64, speed_m_s: f64) -> CoupledVehicle {
         let dynamics = VehicleModelSpec::HalfCar(HalfCarSpec {
             preset: Some("two_axle_truck".into()),
@@ -367,15 +357,13 @@ mod tests {
     fn compare(spec: ModelSpec, storage: Storage) -> (f64, f64) {
         let model = BridgeModel::build(&BeamProperties::paper_default(), &spec, 0.02).unwrap();
         let mut rng = ChaCha8Rng::seed_from_u64(2021);
-        let road = Profile(
-            RoadProfile::build(
-                &RoadProfileSpec::iso8608(IsoClass::A),
-                -30.0,
-                90.0,
-                &mut rng,
-            )
-            .unwrap(),
-        );
+        let road = RoadProfile::build(
+            &RoadProfileSpec::iso8608(IsoClass::A),
+            -30.0,
+            90.0,
+            &mut rng,
+        )
+        .unwrap();
         let coef = NewmarkCoefficients::new(2e-3, NewmarkParams::default()).unwrap();
         let (start, speed) = (-20.0, 20.0);
         let mut low_rank = CoupledSolver::new(

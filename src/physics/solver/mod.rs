@@ -1,13 +1,15 @@
-//! Time integration: Newmark-beta, the linear algebra behind it, and the coupled
-//! vehicle-bridge step.
+//! Time integration: Newmark-beta, the linear algebra behind it, the coupled
+//! vehicle-bridge step, and stepping it with the divergence check.
 
 mod band;
 mod coupled;
 mod direct;
 mod linear;
 mod newmark;
+mod stepping;
 
-pub use coupled::{ContactLaw, CoupledSolver, CoupledVehicle, LevelRoad, RoadSurface};
+pub use coupled::{ContactLaw, CoupledSolver, CoupledVehicle};
 pub use direct::DirectSolver;
 pub use linear::{to_csc, Factor, Operator, SmallLu, Storage};
 pub use newmark::{Newmark, NewmarkCoefficients, NewmarkParams, SolveMode, State};
+pub use stepping::{check_state, divergence_hint, Stepper, RUNAWAY_CHECK_STRIDE};

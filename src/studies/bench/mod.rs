@@ -21,9 +21,9 @@ use serde::Serialize;
 
 use crate::error::Result;
 use crate::physics::bridge::BridgeModel;
-use crate::physics::road::IsoClass;
+use crate::physics::road::{IsoClass, RoadProfile};
 use crate::physics::vehicle::VehicleDynamics;
-use crate::studies::dlc::{Road, Surface};
+use crate::studies::dlc::Surface;
 use crate::studies::solver_paths::{compare, PathErrors, PathsCase, Reference, ReferenceModels};
 
 pub use end_to_end::{
@@ -178,7 +178,7 @@ fn rows_at(
 /// The solver-paths reference on the class A road, for the accuracy columns.
 struct Accuracy {
     case: PathsCase,
-    road: Road,
+    road: RoadProfile,
     reference: Reference,
 }
 

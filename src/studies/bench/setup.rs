@@ -11,9 +11,10 @@ use serde::Serialize;
 
 use crate::error::Result;
 use crate::physics::bridge::{BeamProperties, BridgeModel, LumpedStiffness, ModelSpec};
+use crate::physics::road::LevelRoad;
 use crate::physics::solver::{
-    ContactLaw, CoupledSolver, CoupledVehicle, DirectSolver, LevelRoad, NewmarkCoefficients,
-    NewmarkParams, SolveMode, Storage,
+    ContactLaw, CoupledSolver, CoupledVehicle, DirectSolver, NewmarkCoefficients, NewmarkParams,
+    SolveMode, Storage,
 };
 use crate::physics::vehicle::{HalfCarSpec, VehicleDynamics, VehicleModelSpec};
 

@@ -13,12 +13,15 @@ use crate::studies::plot::{Chart, Figure, Scale, Series};
 pub fn write_outputs(out: &Path, report: &SolverPathsReport) -> Result<()> {
     write_file(&out.join("solver_paths.csv"), &points_csv(report))?;
     write_file(&out.join("reference.csv"), &reference_csv(report))?;
-    write_svg_file(&out.join("errors_vs_dof.svg"), &error_figure(report, false))?;
+    write_svg_file(
+        &out.join("errors_vs_dof.svg"),
+        &error_figure(report, false)?,
+    )?;
     write_svg_file(
         &out.join("spatial_errors_vs_dof.svg"),
-        &error_figure(report, true),
+        &error_figure(report, true)?,
     )?;
-    write_svg_file(&out.join("histories.svg"), &history_figure(report))?;
+    write_svg_file(&out.join("histories.svg"), &history_figure(report)?)?;
     write_file(&out.join("summary.md"), &summary::markdown(report))?;
     Ok(())
 }
@@ -89,7 +92,7 @@ const PLOTTED: [Metric; 4] = [
 
 /// Error vs DOF per road (rows) and metric (columns), one series per path; the
 /// time-step floor as a reference line. `spatial`: against FE 400 at the same dt.
-fn error_figure(report: &SolverPathsReport, spatial: bool) -> String {
+fn error_figure(report: &SolverPathsReport, spatial: bool) -> Result<String> {
     let mut charts = Vec::new();
     for (surface, reference) in &report.references {
         for (name, metric) in PLOTTED {
@@ -132,7 +135,7 @@ const PLOT_STEP_S: f64 = 5e-3;
 
 /// Midspan deflection, acceleration (< 50 Hz) and rear tyre force over the crossing, per
 /// road: the reference and each path at its smallest size.
-fn history_figure(report: &SolverPathsReport) -> String {
+fn history_figure(report: &SolverPathsReport) -> Result<String> {
     let mut charts = Vec::new();
     let t0 = report.case.approach_m / report.case.speed_m_s;
     for (surface, _) in &report.references {

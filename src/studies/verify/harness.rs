@@ -8,11 +8,13 @@ use nalgebra::DVector;
 
 use crate::error::Result;
 use crate::physics::bridge::{BeamProperties, BridgeModel, ModelSpec, PointQuantity, SparseVec};
+use crate::physics::road::LevelRoad;
 use crate::physics::solver::{
-    ContactLaw, CoupledSolver, CoupledVehicle, LevelRoad, Newmark, NewmarkCoefficients,
-    NewmarkParams, SolveMode, Storage,
+    ContactLaw, CoupledSolver, CoupledVehicle, Newmark, NewmarkCoefficients, NewmarkParams,
+    SolveMode, Stepper, Storage,
 };
 use crate::physics::vehicle::VehicleDynamics;
+use crate::studies::DIVERGENCE_HINT;
 
 /// A constant force crossing the beam from x = 0 at t = 0.
 #[derive(Debug, Clone)]
@@ -47,8 +49,9 @@ pub fn moving_force_history(case: &MovingForceCase) -> Result<(Vec<f64>, Vec<f64
     let mut op = SparseVec::with_capacity(model.n_dof());
     let mut times = vec![0.0];
     let mut deflection = vec![0.0];
+    let stepper = Stepper::new(&model, DIVERGENCE_HINT);
     for _ in 0..steps {
-        solver.advance()?;
+        stepper.advance(&mut solver)?;
         times.push(solver.time_s());
         deflection.push(-solver.bridge_response(mid, PointQuantity::Deflection, 0, &mut op));
     }

@@ -6,7 +6,7 @@
 
 mod beam_checks;
 mod harness;
-mod vbi_checks;
+mod vbi;
 
 use serde::Serialize;
 
@@ -15,7 +15,7 @@ pub use beam_checks::{
     static_deflection,
 };
 pub use harness::{manufactured_history, moving_force_history, ManufacturedCase, MovingForceCase};
-pub use vbi_checks::{
+pub use vbi::{
     approach_equilibrium, road_profiles, sine_road_response, sprung_mass_crossing, static_loads,
     suspension_limits, truck_vs_moving_forces, unilateral_contact,
 };

@@ -24,10 +24,10 @@ use std::path::Path;
 
 use serde::Serialize;
 
-use super::dlc::{DlcSetup, Road, Surface};
+use super::dlc::{DlcSetup, Surface};
 use crate::error::Result;
 use crate::physics::bridge::{BeamProperties, BridgeModel, LumpedStiffness, ModelSpec};
-use crate::physics::road::IsoClass;
+use crate::physics::road::{IsoClass, RoadProfile};
 use crate::physics::vehicle::VehicleDynamics;
 
 pub use history::{run_crossing, storage_for, CrossingInput, History};
@@ -151,7 +151,7 @@ impl PathsCase {
     }
 
     /// The road of `surface` (realisation 0 of the DLC study's stream for the class).
-    pub fn road(&self, surface: Surface) -> Result<Road> {
+    pub fn road(&self, surface: Surface) -> Result<RoadProfile> {
         let setup = DlcSetup {
             beam: self.beam.clone(),
             approach_m: self.approach_m,
@@ -172,7 +172,7 @@ impl PathsCase {
         model: &BridgeModel,
         dt_s: f64,
         vehicle: &VehicleDynamics,
-        road: &Road,
+        road: &RoadProfile,
     ) -> Result<History> {
         run_crossing(
             model,
@@ -192,7 +192,7 @@ impl PathsCase {
         &self,
         models: &ReferenceModels,
         vehicle: &VehicleDynamics,
-        road: &Road,
+        road: &RoadProfile,
     ) -> Result<Reference> {
         let history = self.run(
             &models.fine,
