@@ -105,7 +105,7 @@ macro_rules! road_shapes {
         ///
         /// Shapes are evaluated in closed form (not sampled), so their geometry is exact.
         #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-        #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+        #[serde(remote = "Self", rename_all = "snake_case", deny_unknown_fields)]
         pub enum RoadFeature {
             $( $(#[$shape_doc])* $shape { $( $(#[$field_doc])* $field: f64, )+ }, )+
         }
@@ -168,7 +168,7 @@ road_shapes! {
     ///
     /// Default: `smooth`.
     #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
-    #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+    #[serde(remote = "Self", rename_all = "snake_case", deny_unknown_fields)]
     pub enum RoadProfileSpec {
         before {
             /// A perfectly flat road (elevation 0 everywhere).
@@ -215,6 +215,8 @@ road_shapes! {
         }
     }
 }
+crate::base::tagged::kind_tagged!(RoadFeature);
+crate::base::tagged::kind_tagged!(RoadProfileSpec);
 
 impl RoadFeature {
     /// Checks that all values are finite and lengths positive.

@@ -12,7 +12,7 @@ use crate::error::{require_non_negative, require_positive, Error, Result};
 
 /// A vehicle model (`kind = "..."` in the scenario).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+#[serde(remote = "Self", rename_all = "snake_case", deny_unknown_fields)]
 pub enum VehicleModelSpec {
     /// Constant forces, no dynamics.
     MovingForce {
@@ -51,6 +51,7 @@ pub enum VehicleModelSpec {
     /// per axle. A `preset` gives every field; fields next to it override it.
     Articulated(ArticulatedSpec),
 }
+crate::base::tagged::kind_tagged!(VehicleModelSpec);
 
 pitch_plane_spec! {
     /// Half-car parameters; arrays are (front, rear).
