@@ -423,7 +423,13 @@ fn syntax_cases() -> Vec<Case> {
         Case::edit(
             "malformed: two equals signs",
             &[Text("span_m = 30.0", "span_m = = 30.0")],
-            &["scenario.toml", "TOML parse error", "span_m = = 30.0"],
+            &[
+                "scenario.toml",
+                "TOML parse error",
+                "\n",
+                "span_m = = 30.0",
+                "^",
+            ],
         ),
         Case::edit(
             "malformed: unclosed table header",
@@ -438,57 +444,67 @@ fn syntax_cases() -> Vec<Case> {
         Case::edit(
             "unknown key at the top level",
             &[Text("seed = 42", "seed = 42\nseeed = 43")],
-            &["scenario.toml", "unknown field `seeed`"],
+            &["scenario.toml: seeed: unknown field `seeed`"],
         ),
         Case::edit(
             "unknown key in [bridge]",
             &[Set("bridge.colour", "\"red\"")],
-            &["scenario.toml", "unknown field `colour`"],
+            &["scenario.toml: bridge.colour: unknown field `colour`"],
         ),
         Case::edit(
             "unknown key in a sensor",
             &[Set("sensors.3.gain", "2.0")],
-            &["scenario.toml", "unknown field `gain`"],
+            &["scenario.toml: sensors.3.gain: unknown field `gain`"],
         ),
         Case::edit(
             "unknown key in a vehicle model",
             &[Set("vehicles.0.model.wings", "2")],
-            &["scenario.toml", "unknown field `wings`"],
+            &["scenario.toml: vehicles.0.model.wings: unknown field `wings`"],
         ),
         Case::edit(
             "unknown key in the road profile",
             &[Set("road.profile.clas", "\"B\"")],
-            &["scenario.toml", "unknown field `clas`"],
+            &["scenario.toml: road.profile.clas: unknown field `clas`"],
         ),
         Case::edit(
             "unknown table",
             &[Text("[output]", "[outputs]")],
-            &["scenario.toml", "unknown field `outputs`"],
+            &["scenario.toml: outputs: unknown field `outputs`"],
         ),
         Case::edit(
             "wrong type: string for a number",
             &[Set("bridge.span_m", "\"thirty\"")],
-            &["scenario.toml", "span_m", "\"thirty\"", "expected f64"],
+            &[
+                "scenario.toml: bridge.span_m: invalid type: string \"thirty\", expected f64",
+                "span_m = \"thirty\"",
+                "^",
+            ],
         ),
         Case::edit(
             "wrong type: integer for a string",
             &[Set("sensors.0.id", "7")],
-            &["scenario.toml", "id = 7", "expected a string"],
+            &[
+                "scenario.toml: sensors.0.id: invalid type: integer `7`, expected a string",
+                "id = 7",
+            ],
         ),
         Case::edit(
             "wrong type: integer for the sensor list",
             &[Set("sensors", "5")],
-            &["scenario.toml", "sensors = 5", "invalid type: integer `5`"],
+            &[
+                "scenario.toml: sensors: invalid type: integer `5`",
+                "sensors = 5",
+            ],
         ),
         Case::edit(
             "wrong type: negative seed",
             &[Set("seed", "-1")],
-            &["scenario.toml", "seed = -1", "expected u64"],
+            &["scenario.toml: seed: ", "seed = -1", "expected u64"],
         ),
         Case::edit(
             "missing field: bridge.span_m",
             &[Remove("bridge.span_m")],
-            &["scenario.toml", "[bridge]", "missing field `span_m`"],
+            &["scenario.toml: bridge: missing field `span_m`", "[bridge]"],
         ),
         Case::edit(
             "missing table: [bridge]",
@@ -498,17 +514,17 @@ fn syntax_cases() -> Vec<Case> {
         Case::edit(
             "missing field: vehicles[0].speed_m_s",
             &[Remove("vehicles.0.speed_m_s")],
-            &["scenario.toml", "missing field `speed_m_s`"],
+            &["scenario.toml: vehicles.0: missing field `speed_m_s`"],
         ),
         Case::edit(
             "unknown variant: sensor kind",
             &[Set("sensors.0.kind", "\"thermometer\"")],
-            &["scenario.toml", "unknown variant `thermometer`"],
+            &["scenario.toml: sensors.0.kind: unknown variant `thermometer`"],
         ),
         Case::edit(
             "unknown variant: contact law",
             &[Set("solver.contact", "\"sticky\"")],
-            &["scenario.toml", "unknown variant `sticky`"],
+            &["scenario.toml: solver.contact: unknown variant `sticky`"],
         ),
         Case::raw("empty file", Vec::new(), &["scenario.toml", "is empty"]),
         Case::raw(
@@ -868,12 +884,12 @@ fn physics_cases() -> Vec<Case> {
         Case::edit(
             "unknown road class",
             &[Set("road.profile.class", "\"Z\"")],
-            &["scenario.toml", "unknown variant `Z`"],
+            &["scenario.toml: road.profile.class: unknown variant `Z`"],
         ),
         Case::edit(
             "unknown road kind",
             &[Set("road.profile.kind", "\"gravel\"")],
-            &["scenario.toml", "unknown variant `gravel`"],
+            &["scenario.toml: road.profile.kind: unknown variant `gravel`"],
         ),
         Case::edit(
             "ISO 8608 without class or G_d",

@@ -1,7 +1,9 @@
 //! The bottom layer: small pieces every other layer may use and which use nothing of the
-//! crate but its error type: named random streams, signal estimates, physical constants.
+//! crate but its error type: named random streams, signal estimates, physical constants, `kind`-tagged
+//! enums for serde.
 
 pub mod random;
 pub mod rate;
 pub mod signal;
+pub mod tagged;
 pub mod units;

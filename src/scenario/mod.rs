@@ -11,6 +11,7 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
+use crate::base::tagged;
 use crate::error::{Error, Result};
 use crate::physics::bridge::{BeamProperties, ModelSpec, StiffnessRegion};
 use crate::physics::road::RoadProfileSpec;
@@ -350,10 +351,9 @@ impl Scenario {
                     .into(),
             });
         }
-        toml::from_str(text).map_err(|e| Error::File {
-            path: source.to_string(),
-            reason: e.to_string().trim_end().replace('\n', " "),
-        })
+        let document = toml::Deserializer::parse(text).map_err(|e| toml_error(source, "", &e))?;
+        serde_path_to_error::deserialize(document)
+            .map_err(|e| toml_error(source, &tagged::dotted(e.path()), e.inner()))
     }
 
     /// Reads and parses a scenario file, and resolves the relative paths in it (the road
@@ -413,9 +413,105 @@ impl Scenario {
     }
 }
 
+/// A TOML error as `source: path: message`, then the toml crate's location, source line
+/// and caret on their own lines. `path` is the dotted path where the error occurred
+/// (`vehicles.0.model`); a `kind`-tagged enum's message carries the rest of it
+/// (`wings`), joined here into `vehicles.0.model.wings`.
+fn toml_error(source: &str, path: &str, error: &toml::de::Error) -> Error {
+    let raw_message = error.message().trim_end();
+    let (inner_path, message) = tagged::split_path(raw_message);
+    let path = tagged::join_path(path, inner_path.unwrap_or(""));
+    // The toml crate prints the location and the caret, then the message: the message
+    // goes to the first line, after the path.
+    let shown = error.to_string();
+    let context = shown
+        .trim_end()
+        .strip_suffix(raw_message)
+        .unwrap_or(&shown)
+        .trim_end();
+    let head = if path.is_empty() {
+        message.to_string()
+    } else {
+        format!("{path}: {message}")
+    };
+    Error::File {
+        path: source.to_string(),
+        reason: if context.is_empty() {
+            head
+        } else {
+            format!("{head}\n{context}")
+        },
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn parse_error(text: &str) -> String {
+        Scenario::from_toml(text, "s.toml").unwrap_err().to_string()
+    }
+
+    #[test]
+    fn errors_name_the_dotted_path_inside_tagged_enums() {
+        let text = DEFAULT_SCENARIO_TOML.replace(
+            r#"model = { kind = "half_car", preset = "two_axle_truck" }"#,
+            r#"model = { kind = "half_car", preset = "two_axle_truck", wings = 2 }"#,
+        );
+        assert_ne!(text, DEFAULT_SCENARIO_TOML);
+        let msg = parse_error(&text);
+        assert!(
+            msg.starts_with("s.toml: vehicles.0.model.wings: unknown field `wings`, expected"),
+            "{msg}"
+        );
+        // A tagged enum inside a tagged enum (a road feature in an ISO 8608 profile).
+        let text = DEFAULT_SCENARIO_TOML.replace(
+            r#"profile = { kind = "iso8608", class = "A" }"#,
+            r#"profile = { kind = "iso8608", class = "A", features = [{ kind = "step", position_m = 1.0, height_m = "up" }] }"#,
+        );
+        assert_ne!(text, DEFAULT_SCENARIO_TOML);
+        let msg = parse_error(&text);
+        assert!(
+            msg.starts_with(
+                "s.toml: road.profile.features.0.height_m: invalid type: string \"up\", expected f64"
+            ),
+            "{msg}"
+        );
+    }
+
+    #[test]
+    fn toml_errors_keep_the_source_line_and_caret_on_their_own_lines() {
+        let text = DEFAULT_SCENARIO_TOML.replace("span_m = 30.0", "span_m = \"thirty\"");
+        assert_ne!(text, DEFAULT_SCENARIO_TOML);
+        let msg = parse_error(&text);
+        let lines: Vec<&str> = msg.lines().collect();
+        assert!(
+            lines[0].starts_with("s.toml: bridge.span_m: invalid type: string \"thirty\""),
+            "{msg}"
+        );
+        assert!(lines[1].starts_with("TOML parse error at line "), "{msg}");
+        // `N | span_m = "thirty"` then the caret under the value.
+        let source = lines
+            .iter()
+            .position(|l| l.ends_with("| span_m = \"thirty\""));
+        let source = source.unwrap_or_else(|| panic!("no source line: {msg}"));
+        let caret = lines[source + 1];
+        let column = lines[source].find("\"thirty\"").unwrap();
+        assert_eq!(caret.find('^'), Some(column), "{msg}");
+        // The message is not repeated under the caret.
+        assert_eq!(msg.matches("invalid type").count(), 1, "{msg}");
+
+        // A syntax error: no path, the same layout.
+        let msg = parse_error(&DEFAULT_SCENARIO_TOML.replace("span_m = 30.0", "span_m = = 30.0"));
+        let lines: Vec<&str> = msg.lines().collect();
+        assert!(!lines[0].contains("TOML parse error"), "{msg}");
+        assert!(lines[1].starts_with("TOML parse error at line "), "{msg}");
+        assert!(
+            lines.iter().any(|l| l.ends_with("| span_m = = 30.0")),
+            "{msg}"
+        );
+        assert!(lines.iter().any(|l| l.trim_end().ends_with('^')), "{msg}");
+    }
 
     #[test]
     fn empty_file_is_named() {

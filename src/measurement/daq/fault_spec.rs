@@ -7,7 +7,7 @@ use crate::error::{num, require_finite, require_non_negative, require_positive, 
 
 /// Packet loss (`loss = { kind = "random", ... }` or `{ kind = "bursty", ... }`).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+#[serde(remote = "Self", rename_all = "snake_case", deny_unknown_fields)]
 pub enum LossSpec {
     /// Each sample is lost independently with `probability`.
     Random {
@@ -24,6 +24,7 @@ pub enum LossSpec {
         mean_burst_samples: f64,
     },
 }
+crate::base::tagged::kind_tagged!(LossSpec);
 
 /// A scheduled outage: every sample with `start_s <= t < start_s + duration_s` is lost.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]

@@ -20,7 +20,7 @@ const MAX_NOISE_REL: f64 = 0.5;
 /// How a station turns a passing vehicle into a record (`model = { kind = "..." }`).
 /// Default `ideal`.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+#[serde(remote = "Self", rename_all = "snake_case", deny_unknown_fields)]
 pub enum WimModelSpec {
     /// The dynamic tyre force at the strip and the true speed, without error.
     #[default]
@@ -47,6 +47,7 @@ pub enum WimModelSpec {
         speed_sigma_rel: f64,
     },
 }
+crate::base::tagged::kind_tagged!(WimModelSpec);
 
 fn default_speed_sigma_rel() -> f64 {
     DEFAULT_SPEED_SIGMA_REL

@@ -14,7 +14,7 @@ use crate::error::{Error, Result};
 
 /// Which discretization to build.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+#[serde(remote = "Self", rename_all = "snake_case", deny_unknown_fields)]
 pub enum ModelSpec {
     /// N equal lumped masses (the paper's flexibility method).
     LumpedMass {
@@ -38,6 +38,7 @@ pub enum ModelSpec {
         elements: Option<usize>,
     },
 }
+crate::base::tagged::kind_tagged!(ModelSpec);
 
 /// Route to the lumped-mass stiffness.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]

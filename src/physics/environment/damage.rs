@@ -24,7 +24,7 @@ pub struct DamageSpec {
 
 /// Progress of a damage from 0 to 1 after its onset.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+#[serde(remote = "Self", rename_all = "snake_case", deny_unknown_fields)]
 pub enum Growth {
     /// Complete at the onset (a sudden event: impact, bearing failure).
     #[default]
@@ -41,6 +41,7 @@ pub enum Growth {
         time_constant_s: f64,
     },
 }
+crate::base::tagged::kind_tagged!(Growth);
 
 impl Growth {
     /// Progress in [0, 1] at `since_onset_s` after the onset (0 before it).

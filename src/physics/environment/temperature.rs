@@ -16,7 +16,7 @@ pub const DAY_S: f64 = 86_400.0;
 
 /// Air temperature of the scenario (`environment.temperature`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+#[serde(remote = "Self", rename_all = "snake_case", deny_unknown_fields)]
 pub enum TemperatureSpec {
     /// The same temperature all the time (the default, 20 degC).
     Constant {
@@ -32,6 +32,7 @@ pub enum TemperatureSpec {
         path: String,
     },
 }
+crate::base::tagged::kind_tagged!(TemperatureSpec);
 
 impl Default for TemperatureSpec {
     fn default() -> Self {

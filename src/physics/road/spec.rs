@@ -83,43 +83,140 @@ impl IsoClass {
     }
 }
 
-/// A deterministic shape, on its own or added on top of a random profile.
-///
-/// Shapes are evaluated in closed form (not sampled), so their geometry is exact.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
-pub enum RoadFeature {
-    /// Elevation jumps by `height_m` at `position_m` (0 before, `height_m` from it on).
-    /// Its slope is a Dirac impulse, reported as 0: a vertical step is a limit case; use
-    /// a short `ramp` or `bump` when the contact rate matters. No defaults.
-    Step {
-        /// Road coordinate of the step, m.
-        position_m: f64,
-        /// Height of the step, m (negative: a drop).
-        height_m: f64,
-    },
-    /// Linear rise from 0 at `start_m` to `height_m` at `start_m + length_m`, constant
-    /// after. No defaults.
-    Ramp {
-        /// Road coordinate where the ramp starts, m.
-        start_m: f64,
-        /// Horizontal length of the ramp, m (> 0).
-        length_m: f64,
-        /// Height reached at the end of the ramp, m.
-        height_m: f64,
-    },
-    /// Raised-cosine bump `h/2 (1 + cos(2 pi (x - position_m) / length_m))` over
-    /// `|x - position_m| < length_m / 2`, zero elsewhere: C1, e.g. an approach-slab fault.
-    /// No defaults.
-    Bump {
-        /// Road coordinate of the bump's centre (its crest), m.
-        position_m: f64,
-        /// Length of the bump, m (> 0).
-        length_m: f64,
-        /// Height of the crest, m (negative: a dip).
-        height_m: f64,
-    },
+/// Declares [`RoadFeature`] and [`RoadProfileSpec`] with the deterministic shapes written
+/// once: each shape is a variant of both (alone on a flat road as a profile, or added on
+/// top of a random profile as a feature), with the same fields, docs and TOML keys, and
+/// `RoadProfileSpec::as_feature` maps one to the other. Every shape field is an `f64`
+/// without default.
+macro_rules! road_shapes {
+    (
+        shapes {
+            $( $(#[$shape_doc:meta])* $shape:ident {
+                $( $(#[$field_doc:meta])* $field:ident, )+
+            } )+
+        }
+        $(#[$profile_meta:meta])*
+        pub enum RoadProfileSpec {
+            before { $($before:tt)* }
+            after { $($after:tt)* }
+        }
+    ) => {
+        /// A deterministic shape, on its own or added on top of a random profile.
+        ///
+        /// Shapes are evaluated in closed form (not sampled), so their geometry is exact.
+        #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+        #[serde(remote = "Self", rename_all = "snake_case", deny_unknown_fields)]
+        pub enum RoadFeature {
+            $( $(#[$shape_doc])* $shape { $( $(#[$field_doc])* $field: f64, )+ }, )+
+        }
+
+        $(#[$profile_meta])*
+        pub enum RoadProfileSpec {
+            $($before)*
+            $( $(#[$shape_doc])* $shape { $( $(#[$field_doc])* $field: f64, )+ }, )+
+            $($after)*
+        }
+
+        impl RoadProfileSpec {
+            /// The deterministic shape of a `step`, `ramp` or `bump` spec.
+            pub fn as_feature(&self) -> Option<RoadFeature> {
+                match *self {
+                    $( RoadProfileSpec::$shape { $($field),+ } => {
+                        Some(RoadFeature::$shape { $($field),+ })
+                    } )+
+                    _ => None,
+                }
+            }
+        }
+    };
 }
+
+road_shapes! {
+    shapes {
+        /// Elevation jumps by `height_m` at `position_m` (0 before, `height_m` from it on).
+        /// Its slope is a Dirac impulse, reported as 0: a vertical step is a limit case; use
+        /// a short `ramp` or `bump` when the contact rate matters. No defaults.
+        Step {
+            /// Road coordinate of the step, m.
+            position_m,
+            /// Height of the step, m (negative: a drop).
+            height_m,
+        }
+        /// Linear rise from 0 at `start_m` to `height_m` at `start_m + length_m`, constant
+        /// after. No defaults.
+        Ramp {
+            /// Road coordinate where the ramp starts, m.
+            start_m,
+            /// Horizontal length of the ramp, m (> 0).
+            length_m,
+            /// Height reached at the end of the ramp, m.
+            height_m,
+        }
+        /// Raised-cosine bump `h/2 (1 + cos(2 pi (x - position_m) / length_m))` over
+        /// `|x - position_m| < length_m / 2`, zero elsewhere: C1, e.g. an approach-slab fault.
+        /// No defaults.
+        Bump {
+            /// Road coordinate of the bump's centre (its crest), m.
+            position_m,
+            /// Length of the bump, m (> 0).
+            length_m,
+            /// Height of the crest, m (negative: a dip).
+            height_m,
+        }
+    }
+    /// The road profile of a scenario (`[road] profile = { kind = "iso8608", class = "A" }`).
+    ///
+    /// Default: `smooth`.
+    #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
+    #[serde(remote = "Self", rename_all = "snake_case", deny_unknown_fields)]
+    pub enum RoadProfileSpec {
+        before {
+            /// A perfectly flat road (elevation 0 everywhere).
+            #[default]
+            Smooth,
+            /// A random ISO 8608 profile, `G_d(n) = G_d(n0) (n / n0)^-2` on `[n1, n2]`, with
+            /// `n0` = 0.1 cycle/m, synthesized by inverse FFT (see `crate::physics::road::RoadProfile`).
+            Iso8608 {
+                /// Roughness class "A" .. "H" (geometric mean of the class). No default: give
+                /// `class` or `gd_n0_m3`.
+                #[serde(default, skip_serializing_if = "Option::is_none")]
+                class: Option<IsoClass>,
+                /// Explicit `G_d(n0)`, m^3; overrides `class`. Default: none.
+                #[serde(default, skip_serializing_if = "Option::is_none")]
+                gd_n0_m3: Option<f64>,
+                /// Lower band limit, cycle/m. Default 0.01 (100 m wavelength).
+                #[serde(default = "default_n1")]
+                n1_cycles_m: f64,
+                /// Upper band limit, cycle/m. Default 4.0 (0.25 m wavelength); must not exceed the
+                /// Nyquist frequency `0.5 / sample_spacing_m`.
+                #[serde(default = "default_n2")]
+                n2_cycles_m: f64,
+                /// Length of the tyre-patch moving-average filter, m (Harris, OBrien & Gonzalez
+                /// 2007 use 0.24). Default: none (unfiltered).
+                #[serde(default, skip_serializing_if = "Option::is_none")]
+                tyre_patch_filter_m: Option<f64>,
+                /// Spacing of the synthesized samples, m. Default 0.05.
+                #[serde(default = "default_spacing")]
+                sample_spacing_m: f64,
+                /// Deterministic shapes added on top of the random profile (not filtered).
+                /// Default: none.
+                #[serde(default, skip_serializing_if = "Vec::is_empty")]
+                features: Vec<RoadFeature>,
+            },
+        }
+        after {
+            /// A measured profile from a CSV file with header and columns `x_m,elevation_m`
+            /// (x strictly increasing, in the road coordinate). It must cover the simulated range.
+            Csv {
+                /// Path of the file; relative paths are resolved by the caller (the scenario
+                /// loader resolves them against the scenario file's folder). No default.
+                path: String,
+            },
+        }
+    }
+}
+crate::base::tagged::kind_tagged!(RoadFeature);
+crate::base::tagged::kind_tagged!(RoadProfileSpec);
 
 impl RoadFeature {
     /// Checks that all values are finite and lengths positive.
@@ -224,78 +321,6 @@ impl RoadFeature {
     }
 }
 
-/// The road profile of a scenario (`[road] profile = { kind = "iso8608", class = "A" }`).
-///
-/// Default: `smooth`.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
-#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
-pub enum RoadProfileSpec {
-    /// A perfectly flat road (elevation 0 everywhere).
-    #[default]
-    Smooth,
-    /// A random ISO 8608 profile, `G_d(n) = G_d(n0) (n / n0)^-2` on `[n1, n2]`, with
-    /// `n0` = 0.1 cycle/m, synthesized by inverse FFT (see `crate::physics::road::RoadProfile`).
-    Iso8608 {
-        /// Roughness class "A" .. "H" (geometric mean of the class). No default: give
-        /// `class` or `gd_n0_m3`.
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        class: Option<IsoClass>,
-        /// Explicit `G_d(n0)`, m^3; overrides `class`. Default: none.
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        gd_n0_m3: Option<f64>,
-        /// Lower band limit, cycle/m. Default 0.01 (100 m wavelength).
-        #[serde(default = "default_n1")]
-        n1_cycles_m: f64,
-        /// Upper band limit, cycle/m. Default 4.0 (0.25 m wavelength); must not exceed the
-        /// Nyquist frequency `0.5 / sample_spacing_m`.
-        #[serde(default = "default_n2")]
-        n2_cycles_m: f64,
-        /// Length of the tyre-patch moving-average filter, m (Harris, OBrien & Gonzalez
-        /// 2007 use 0.24). Default: none (unfiltered).
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        tyre_patch_filter_m: Option<f64>,
-        /// Spacing of the synthesized samples, m. Default 0.05.
-        #[serde(default = "default_spacing")]
-        sample_spacing_m: f64,
-        /// Deterministic shapes added on top of the random profile (not filtered).
-        /// Default: none.
-        #[serde(default, skip_serializing_if = "Vec::is_empty")]
-        features: Vec<RoadFeature>,
-    },
-    /// A step (see [`RoadFeature::Step`]) on an otherwise flat road. No defaults.
-    Step {
-        /// Road coordinate of the step, m.
-        position_m: f64,
-        /// Height of the step, m.
-        height_m: f64,
-    },
-    /// A linear ramp then constant (see [`RoadFeature::Ramp`]) on a flat road. No defaults.
-    Ramp {
-        /// Road coordinate where the ramp starts, m.
-        start_m: f64,
-        /// Horizontal length of the ramp, m (> 0).
-        length_m: f64,
-        /// Height reached at the end of the ramp, m.
-        height_m: f64,
-    },
-    /// A raised-cosine bump (see [`RoadFeature::Bump`]) on a flat road. No defaults.
-    Bump {
-        /// Road coordinate of the bump's centre, m.
-        position_m: f64,
-        /// Length of the bump, m (> 0).
-        length_m: f64,
-        /// Height of the crest, m.
-        height_m: f64,
-    },
-    /// A measured profile from a CSV file with header and columns `x_m,elevation_m`
-    /// (x strictly increasing, in the road coordinate). It must cover the simulated range.
-    Csv {
-        /// Path of the file; relative paths are resolved by the caller (the scenario
-        /// loader resolves them against the scenario file's folder). No default.
-        path: String,
-    },
-}
-
 fn default_n1() -> f64 {
     DEFAULT_N1_CYCLES_M
 }
@@ -319,38 +344,6 @@ impl RoadProfileSpec {
             tyre_patch_filter_m: None,
             sample_spacing_m: DEFAULT_SAMPLE_SPACING_M,
             features: Vec::new(),
-        }
-    }
-
-    /// The deterministic shape of a `step`, `ramp` or `bump` spec.
-    pub fn as_feature(&self) -> Option<RoadFeature> {
-        match *self {
-            RoadProfileSpec::Step {
-                position_m,
-                height_m,
-            } => Some(RoadFeature::Step {
-                position_m,
-                height_m,
-            }),
-            RoadProfileSpec::Ramp {
-                start_m,
-                length_m,
-                height_m,
-            } => Some(RoadFeature::Ramp {
-                start_m,
-                length_m,
-                height_m,
-            }),
-            RoadProfileSpec::Bump {
-                position_m,
-                length_m,
-                height_m,
-            } => Some(RoadFeature::Bump {
-                position_m,
-                length_m,
-                height_m,
-            }),
-            _ => None,
         }
     }
 

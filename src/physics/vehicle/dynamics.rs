@@ -184,18 +184,4 @@ impl VehicleDynamics {
             .solve(&rhs)
             .unwrap_or_else(|| DVector::zeros(n))
     }
-
-    /// Natural frequencies on a rigid road (Hz), ascending.
-    pub fn natural_frequencies_hz(&self) -> Result<Vec<f64>> {
-        if self.n_dof() == 0 {
-            return Ok(Vec::new());
-        }
-        let modes =
-            crate::physics::bridge::generalized_modes(&self.stiffness_with_tyres(), &self.mass)?;
-        Ok(modes
-            .omega_rad_s
-            .iter()
-            .map(|w| w / (2.0 * std::f64::consts::PI))
-            .collect())
-    }
 }

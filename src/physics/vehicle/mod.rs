@@ -4,6 +4,7 @@ mod articulated;
 mod classes;
 mod dynamics;
 mod models;
+mod pitch_plane_spec;
 mod spec;
 mod truck_spec;
 

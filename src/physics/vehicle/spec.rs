@@ -4,12 +4,15 @@ use serde::{Deserialize, Serialize};
 
 use super::dynamics::VehicleDynamics;
 use super::models::{quarter_car, rigid_body_on_axles, sprung_mass, AxleParams};
+use super::pitch_plane_spec::{
+    named, pitch_plane_spec, positive, preset_or_default, require_within, validated_axles,
+};
 use super::truck_spec::{ArticulatedSpec, RigidTruckSpec};
 use crate::error::{require_non_negative, require_positive, Error, Result};
 
 /// A vehicle model (`kind = "..."` in the scenario).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+#[serde(remote = "Self", rename_all = "snake_case", deny_unknown_fields)]
 pub enum VehicleModelSpec {
     /// Constant forces, no dynamics.
     MovingForce {
@@ -48,33 +51,22 @@ pub enum VehicleModelSpec {
     /// per axle. A `preset` gives every field; fields next to it override it.
     Articulated(ArticulatedSpec),
 }
+crate::base::tagged::kind_tagged!(VehicleModelSpec);
 
-/// Half-car parameters; arrays are (front, rear).
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct HalfCarSpec {
-    /// `two_axle_truck` or `vbi2d_e01` (docs/physics.md section 6).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub preset: Option<String>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub body_mass_kg: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub pitch_inertia_kg_m2: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub axle_spacing_m: Option<f64>,
-    /// Centre of gravity behind the front axle (m); default mid-wheelbase.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub cg_behind_front_m: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub axle_mass_kg: Option<[f64; 2]>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub suspension_stiffness_n_m: Option<[f64; 2]>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub suspension_damping_n_s_m: Option<[f64; 2]>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub tyre_stiffness_n_m: Option<[f64; 2]>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub tyre_damping_n_s_m: Option<[f64; 2]>,
+pitch_plane_spec! {
+    /// Half-car parameters; arrays are (front, rear).
+    pub struct HalfCarSpec, axle arrays of [f64; 2] {
+        /// `two_axle_truck` or `vbi2d_e01` (docs/physics.md section 6).
+        pub preset: Option<String>,
+        /// Sprung mass (kg), axles excluded.
+        pub body_mass_kg: Option<f64>,
+        /// Pitch moment of inertia of the body about its centre of gravity (kg m^2).
+        pub pitch_inertia_kg_m2: Option<f64>,
+        /// Wheelbase (m).
+        pub axle_spacing_m: Option<f64>,
+        /// Centre of gravity behind the front axle (m); default mid-wheelbase.
+        pub cg_behind_front_m: Option<f64>,
+    }
 }
 
 /// The names `preset` accepts.
@@ -86,84 +78,50 @@ impl HalfCarSpec {
         match name {
             // Commonly attributed to Law & Zhu (2004); docs/physics.md section 6. CG assumed at
             // mid-wheelbase.
-            "two_axle_truck" => Some(HalfCarSpec {
-                preset: Some(name.into()),
-                body_mass_kg: Some(17_735.0),
-                pitch_inertia_kg_m2: Some(1.47e5),
-                axle_spacing_m: Some(4.27),
-                cg_behind_front_m: None,
-                axle_mass_kg: Some([1_500.0, 1_000.0]),
-                suspension_stiffness_n_m: Some([2.47e6, 4.23e6]),
-                suspension_damping_n_s_m: Some([3.0e4, 4.0e4]),
-                tyre_stiffness_n_m: Some([3.74e6, 4.60e6]),
-                tyre_damping_n_s_m: Some([3.9e3, 4.3e3]),
-            }),
+            "two_axle_truck" => Some(
+                HalfCarSpec {
+                    preset: Some(name.into()),
+                    body_mass_kg: Some(17_735.0),
+                    pitch_inertia_kg_m2: Some(1.47e5),
+                    axle_spacing_m: Some(4.27),
+                    cg_behind_front_m: None,
+                    ..HalfCarSpec::default()
+                }
+                .with_axle_arrays([
+                    [1_500.0, 1_000.0],
+                    [2.47e6, 4.23e6],
+                    [3.0e4, 4.0e4],
+                    [3.74e6, 4.60e6],
+                    [3.9e3, 4.3e3],
+                ]),
+            ),
             // VBI-2D example E01 (verification vehicle; body damping ~0.2 %).
-            "vbi2d_e01" => Some(HalfCarSpec {
-                preset: Some(name.into()),
-                body_mass_kg: Some(10_500.0),
-                pitch_inertia_kg_m2: Some(50_000.0),
-                axle_spacing_m: Some(5.0),
-                cg_behind_front_m: None,
-                axle_mass_kg: Some([900.0, 900.0]),
-                suspension_stiffness_n_m: Some([6.0e6, 6.0e6]),
-                suspension_damping_n_s_m: Some([1.0e4, 1.0e4]),
-                tyre_stiffness_n_m: Some([1.75e6, 1.75e6]),
-                tyre_damping_n_s_m: Some([0.0, 0.0]),
-            }),
+            "vbi2d_e01" => Some(
+                HalfCarSpec {
+                    preset: Some(name.into()),
+                    body_mass_kg: Some(10_500.0),
+                    pitch_inertia_kg_m2: Some(50_000.0),
+                    axle_spacing_m: Some(5.0),
+                    cg_behind_front_m: None,
+                    ..HalfCarSpec::default()
+                }
+                .with_axle_arrays([
+                    [900.0, 900.0],
+                    [6.0e6, 6.0e6],
+                    [1.0e4, 1.0e4],
+                    [1.75e6, 1.75e6],
+                    [0.0, 0.0],
+                ]),
+            ),
             _ => None,
         }
     }
 
     /// Fields given here override the preset's.
     fn resolved(&self, path: &str) -> Result<HalfCarSpec> {
-        let base = match &self.preset {
-            Some(name) => HalfCarSpec::preset(name).ok_or_else(|| {
-                Error::invalid(
-                    format!("{path}.preset"),
-                    format!("\"{name}\""),
-                    format!("is not a preset; known: {}", HALF_CAR_PRESETS.join(", ")),
-                )
-            })?,
-            None => HalfCarSpec::default(),
-        };
-        Ok(HalfCarSpec {
-            preset: self.preset.clone(),
-            body_mass_kg: self.body_mass_kg.or(base.body_mass_kg),
-            pitch_inertia_kg_m2: self.pitch_inertia_kg_m2.or(base.pitch_inertia_kg_m2),
-            axle_spacing_m: self.axle_spacing_m.or(base.axle_spacing_m),
-            cg_behind_front_m: self.cg_behind_front_m.or(base.cg_behind_front_m),
-            axle_mass_kg: self.axle_mass_kg.or(base.axle_mass_kg),
-            suspension_stiffness_n_m: self
-                .suspension_stiffness_n_m
-                .or(base.suspension_stiffness_n_m),
-            suspension_damping_n_s_m: self
-                .suspension_damping_n_s_m
-                .or(base.suspension_damping_n_s_m),
-            tyre_stiffness_n_m: self.tyre_stiffness_n_m.or(base.tyre_stiffness_n_m),
-            tyre_damping_n_s_m: self.tyre_damping_n_s_m.or(base.tyre_damping_n_s_m),
-        })
+        let base = preset_or_default(path, &self.preset, &HALF_CAR_PRESETS, HalfCarSpec::preset)?;
+        Ok(self.overriding(base))
     }
-}
-
-fn required<T>(value: Option<T>, field: String) -> Result<T> {
-    value.ok_or_else(|| Error::invalid(field, "(missing)", "is required when no preset gives it"))
-}
-
-fn positive_pair(value: Option<[f64; 2]>, field: String) -> Result<[f64; 2]> {
-    let pair = required(value, field.clone())?;
-    for (i, v) in pair.iter().enumerate() {
-        require_positive(&format!("{field}.{i}"), *v)?;
-    }
-    Ok(pair)
-}
-
-fn non_negative_pair(value: Option<[f64; 2]>, field: String) -> Result<[f64; 2]> {
-    let pair = required(value, field.clone())?;
-    for (i, v) in pair.iter().enumerate() {
-        require_non_negative(&format!("{field}.{i}"), *v)?;
-    }
-    Ok(pair)
 }
 
 impl VehicleModelSpec {
@@ -252,43 +210,18 @@ impl VehicleModelSpec {
 fn build_half_car(spec: &HalfCarSpec, path: &str) -> Result<VehicleDynamics> {
     let f = |name: &str| format!("{path}.{name}");
     let s = spec.resolved(path)?;
-    let body = require_positive(
-        &f("body_mass_kg"),
-        required(s.body_mass_kg, f("body_mass_kg"))?,
-    )?;
-    let inertia = require_positive(
-        &f("pitch_inertia_kg_m2"),
-        required(s.pitch_inertia_kg_m2, f("pitch_inertia_kg_m2"))?,
-    )?;
-    let spacing = require_positive(
-        &f("axle_spacing_m"),
-        required(s.axle_spacing_m, f("axle_spacing_m"))?,
-    )?;
+    let body = positive(s.body_mass_kg, &f("body_mass_kg"))?;
+    let inertia = positive(s.pitch_inertia_kg_m2, &f("pitch_inertia_kg_m2"))?;
+    let spacing = positive(s.axle_spacing_m, &f("axle_spacing_m"))?;
     let cg = s.cg_behind_front_m.unwrap_or(spacing / 2.0);
-    if !(cg.is_finite() && (0.0..=spacing).contains(&cg)) {
-        return Err(Error::invalid(
-            f("cg_behind_front_m"),
-            cg,
-            format!("must lie between the axles, in [0, {spacing}] m"),
-        ));
-    }
-    let m = positive_pair(s.axle_mass_kg, f("axle_mass_kg"))?;
-    let ks = positive_pair(s.suspension_stiffness_n_m, f("suspension_stiffness_n_m"))?;
-    let cs = non_negative_pair(s.suspension_damping_n_s_m, f("suspension_damping_n_s_m"))?;
-    let kt = positive_pair(s.tyre_stiffness_n_m, f("tyre_stiffness_n_m"))?;
-    let ct = non_negative_pair(s.tyre_damping_n_s_m, f("tyre_damping_n_s_m"))?;
-    let axles: Vec<AxleParams> = (0..2)
-        .map(|j| AxleParams {
-            mass_kg: m[j],
-            suspension_stiffness_n_m: ks[j],
-            suspension_damping_n_s_m: cs[j],
-            tyre_stiffness_n_m: kt[j],
-            tyre_damping_n_s_m: ct[j],
-        })
-        .collect();
-    let name = match &s.preset {
-        Some(p) => format!("half_car/{p}"),
-        None => "half_car".to_string(),
-    };
-    rigid_body_on_axles(&name, body, inertia, cg, &[0.0, spacing], &axles)
+    require_within(&f("cg_behind_front_m"), cg, 0.0, spacing, "the axles")?;
+    let axles = validated_axles(path, 2, s.axle_arrays())?;
+    rigid_body_on_axles(
+        &named("half_car", &s.preset),
+        body,
+        inertia,
+        cg,
+        &[0.0, spacing],
+        &axles,
+    )
 }

@@ -20,15 +20,6 @@ fn static_axle_loads_sum_to_the_weight_and_split_by_lever_rule() {
 }
 
 #[test]
-fn two_axle_truck_frequencies_match_physics_md() {
-    // docs/physics.md: modes about 1.6, 2.3, 10.3, 15.1 Hz (derived; two significant digits).
-    let f = truck().natural_frequencies_hz().unwrap();
-    for (got, want) in f.iter().zip([1.6, 2.3, 10.3, 15.1]) {
-        assert!((got - want).abs() < 0.05 * want, "{f:?}");
-    }
-}
-
-#[test]
 fn equilibrium_on_a_level_road_offset_moves_everything_rigidly() {
     let v = truck();
     let y = v.equilibrium_on_road(&[0.01, 0.01]);
@@ -81,4 +72,51 @@ tyre_stiffness_n_m = [1e6, -1.0]"#,
     }
     let unknown: Result<VehicleModelSpec, _> = toml::from_str("kind = \"half_car\"\nwheels = 3");
     assert!(unknown.unwrap_err().to_string().contains("wheels"));
+}
+
+#[test]
+fn every_pitch_plane_spec_takes_the_shared_axle_arrays_and_rejects_unknown_keys() {
+    // The per-axle arrays are written once (pitch_plane_spec!) for three tables: each
+    // table must accept every one of them and still name an unknown key.
+    let arrays = "axle_mass_kg = [1.0, 2.0]\nsuspension_stiffness_n_m = [1.0, 2.0]\n\
+                  suspension_damping_n_s_m = [1.0, 2.0]\ntyre_stiffness_n_m = [1.0, 2.0]\n\
+                  tyre_damping_n_s_m = [1.0, 2.0]\n";
+    let half: HalfCarSpec = toml::from_str(arrays).unwrap();
+    let rigid: RigidTruckSpec = toml::from_str(arrays).unwrap();
+    let artic: ArticulatedSpec = toml::from_str(arrays).unwrap();
+    assert_eq!(half.tyre_damping_n_s_m, Some([1.0, 2.0]));
+    assert_eq!(rigid.tyre_damping_n_s_m, Some(vec![1.0, 2.0]));
+    assert_eq!(artic.axle_mass_kg, Some(vec![1.0, 2.0]));
+    let wings = format!("{arrays}wings = 2\n");
+    for e in [
+        toml::from_str::<HalfCarSpec>(&wings).unwrap_err(),
+        toml::from_str::<RigidTruckSpec>(&wings).unwrap_err(),
+        toml::from_str::<ArticulatedSpec>(&wings).unwrap_err(),
+    ] {
+        let msg = e.to_string();
+        assert!(
+            msg.contains("unknown field `wings`, expected one of `preset`"),
+            "{msg}"
+        );
+        assert!(msg.contains("`tyre_damping_n_s_m`"), "{msg}");
+    }
+}
+
+#[test]
+fn fields_given_next_to_a_preset_override_it_one_by_one() {
+    let spec = HalfCarSpec {
+        preset: Some("two_axle_truck".into()),
+        body_mass_kg: Some(10_000.0),
+        tyre_stiffness_n_m: Some([1e6, 2e6]),
+        ..Default::default()
+    };
+    let v = VehicleModelSpec::HalfCar(spec)
+        .build("vehicles.0.model")
+        .unwrap();
+    let p = |name: &str| v.parameters.iter().find(|(n, _)| n == name).unwrap().1;
+    assert_eq!(p("body_mass_kg"), 10_000.0);
+    assert_eq!(p("axle_2_tyre_stiffness_n_m"), 2e6);
+    // Not given: the preset's.
+    assert_eq!(p("axle_1_mass_kg"), 1_500.0);
+    assert_eq!(p("axle_2_suspension_stiffness_n_m"), 4.23e6);
 }

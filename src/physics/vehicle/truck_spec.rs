@@ -9,127 +9,53 @@
 use serde::{Deserialize, Serialize};
 
 use super::articulated::ArticulatedParams;
-use super::models::{AxleParams, BodyParams, RigidTruckParams};
-use crate::error::{num, require_non_negative, require_positive, Error, Result};
+use super::models::{BodyParams, RigidTruckParams};
+use super::pitch_plane_spec::{
+    named, pitch_plane_spec, positive, preset_or_default, require_within, required, validated_axles,
+};
+use crate::error::{require_positive, Error, Result};
 
-/// Rigid truck (or car) parameters: one body (bounce, pitch) on 2-4 axles.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct RigidTruckSpec {
-    /// One of `RIGID_TRUCK_PRESETS`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub preset: Option<String>,
-    /// Sprung mass (kg), axles excluded.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub body_mass_kg: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub pitch_inertia_kg_m2: Option<f64>,
-    /// Centre of gravity behind the front axle (m); default mid-wheelbase.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub cg_behind_front_m: Option<f64>,
-    /// Distances between consecutive axles (m): 1-3 entries for 2-4 axles.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub axle_spacing_m: Option<Vec<f64>>,
-    /// Unsprung mass per axle (kg).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub axle_mass_kg: Option<Vec<f64>>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub suspension_stiffness_n_m: Option<Vec<f64>>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub suspension_damping_n_s_m: Option<Vec<f64>>,
-    /// Tyre stiffness per axle, all its tyres together (N/m).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub tyre_stiffness_n_m: Option<Vec<f64>>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub tyre_damping_n_s_m: Option<Vec<f64>>,
+pitch_plane_spec! {
+    /// Rigid truck (or car) parameters: one body (bounce, pitch) on 2-4 axles.
+    pub struct RigidTruckSpec, axle arrays of Vec<f64> {
+        /// One of `RIGID_TRUCK_PRESETS`.
+        pub preset: Option<String>,
+        /// Sprung mass (kg), axles excluded.
+        pub body_mass_kg: Option<f64>,
+        /// Pitch moment of inertia of the body about its centre of gravity (kg m^2).
+        pub pitch_inertia_kg_m2: Option<f64>,
+        /// Centre of gravity behind the front axle (m); default mid-wheelbase.
+        pub cg_behind_front_m: Option<f64>,
+        /// Distances between consecutive axles (m): 1-3 entries for 2-4 axles.
+        pub axle_spacing_m: Option<Vec<f64>>,
+    }
 }
 
-/// Tractor + semi-trailer parameters: two bodies hinged at the fifth wheel.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ArticulatedSpec {
-    /// One of `ARTICULATED_PRESETS`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub preset: Option<String>,
-    /// Tractor sprung mass (kg), axles excluded.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub tractor_body_mass_kg: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub tractor_pitch_inertia_kg_m2: Option<f64>,
-    /// Tractor centre of gravity behind the front axle (m).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub tractor_cg_behind_front_m: Option<f64>,
-    /// Trailer sprung mass including payload (kg), axles excluded.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub trailer_body_mass_kg: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub trailer_pitch_inertia_kg_m2: Option<f64>,
-    /// Trailer centre of gravity behind the front axle (m), behind the fifth wheel.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub trailer_cg_behind_front_m: Option<f64>,
-    /// Fifth wheel (kingpin) behind the front axle (m).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub fifth_wheel_behind_front_m: Option<f64>,
-    /// Axles of the tractor (>= 2); the rest (>= 1) are the trailer's. Default 2.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub tractor_axle_count: Option<usize>,
-    /// Distances between consecutive axles (m), front first.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub axle_spacing_m: Option<Vec<f64>>,
-    /// Unsprung mass per axle (kg).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub axle_mass_kg: Option<Vec<f64>>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub suspension_stiffness_n_m: Option<Vec<f64>>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub suspension_damping_n_s_m: Option<Vec<f64>>,
-    /// Tyre stiffness per axle, all its tyres together (N/m).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub tyre_stiffness_n_m: Option<Vec<f64>>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub tyre_damping_n_s_m: Option<Vec<f64>>,
+pitch_plane_spec! {
+    /// Tractor + semi-trailer parameters: two bodies hinged at the fifth wheel.
+    pub struct ArticulatedSpec, axle arrays of Vec<f64> {
+        /// One of `ARTICULATED_PRESETS`.
+        pub preset: Option<String>,
+        /// Tractor sprung mass (kg), axles excluded.
+        pub tractor_body_mass_kg: Option<f64>,
+        /// Tractor pitch moment of inertia about its centre of gravity (kg m^2).
+        pub tractor_pitch_inertia_kg_m2: Option<f64>,
+        /// Tractor centre of gravity behind the front axle (m).
+        pub tractor_cg_behind_front_m: Option<f64>,
+        /// Trailer sprung mass including payload (kg), axles excluded.
+        pub trailer_body_mass_kg: Option<f64>,
+        /// Trailer pitch moment of inertia about its centre of gravity (kg m^2).
+        pub trailer_pitch_inertia_kg_m2: Option<f64>,
+        /// Trailer centre of gravity behind the front axle (m), behind the fifth wheel.
+        pub trailer_cg_behind_front_m: Option<f64>,
+        /// Fifth wheel (kingpin) behind the front axle (m).
+        pub fifth_wheel_behind_front_m: Option<f64>,
+        /// Axles of the tractor (>= 2); the rest (>= 1) are the trailer's. Default 2.
+        pub tractor_axle_count: Option<usize>,
+        /// Distances between consecutive axles (m), front first.
+        pub axle_spacing_m: Option<Vec<f64>>,
+    }
 }
-
-/// The per-axle arrays of either kind, front first, one entry per axle.
-#[derive(Debug, Clone, Default, PartialEq)]
-struct AxleArrays {
-    axle_mass_kg: Option<Vec<f64>>,
-    suspension_stiffness_n_m: Option<Vec<f64>>,
-    suspension_damping_n_s_m: Option<Vec<f64>>,
-    tyre_stiffness_n_m: Option<Vec<f64>>,
-    tyre_damping_n_s_m: Option<Vec<f64>>,
-}
-
-/// Moves arrays between a spec's fields and `AxleArrays`.
-macro_rules! axle_arrays_accessors {
-    ($spec:ty) => {
-        impl $spec {
-            fn axle_arrays(&self) -> AxleArrays {
-                AxleArrays {
-                    axle_mass_kg: self.axle_mass_kg.clone(),
-                    suspension_stiffness_n_m: self.suspension_stiffness_n_m.clone(),
-                    suspension_damping_n_s_m: self.suspension_damping_n_s_m.clone(),
-                    tyre_stiffness_n_m: self.tyre_stiffness_n_m.clone(),
-                    tyre_damping_n_s_m: self.tyre_damping_n_s_m.clone(),
-                }
-            }
-
-            fn with_axle_arrays(self, a: AxleArrays) -> Self {
-                Self {
-                    axle_mass_kg: a.axle_mass_kg,
-                    suspension_stiffness_n_m: a.suspension_stiffness_n_m,
-                    suspension_damping_n_s_m: a.suspension_damping_n_s_m,
-                    tyre_stiffness_n_m: a.tyre_stiffness_n_m,
-                    tyre_damping_n_s_m: a.tyre_damping_n_s_m,
-                    ..self
-                }
-            }
-        }
-    };
-}
-
-axle_arrays_accessors!(RigidTruckSpec);
-axle_arrays_accessors!(ArticulatedSpec);
 
 /// The names `preset` accepts for `kind = "rigid_truck"`.
 pub const RIGID_TRUCK_PRESETS: [&str; 4] = ["car", "truck_2axle", "truck_3axle", "truck_4axle"];
@@ -150,18 +76,14 @@ const SUSPENSION_DAMPING_S: f64 = 0.01;
 /// Tyre damping of the truck presets (N s/m per axle): VBI-2D `Vehicle_2A3`.
 const TRUCK_TYRE_DAMPING_N_S_M: f64 = 1.0e4;
 
-fn arrays(m: &[f64], ks: &[f64], cs: &[f64], kt: &[f64], ct: &[f64]) -> AxleArrays {
-    AxleArrays {
-        axle_mass_kg: Some(m.to_vec()),
-        suspension_stiffness_n_m: Some(ks.to_vec()),
-        suspension_damping_n_s_m: Some(cs.to_vec()),
-        tyre_stiffness_n_m: Some(kt.to_vec()),
-        tyre_damping_n_s_m: Some(ct.to_vec()),
-    }
+/// Per-axle arrays `[mass, suspension stiffness, suspension damping, tyre stiffness,
+/// tyre damping]` of a preset.
+fn arrays(m: &[f64], ks: &[f64], cs: &[f64], kt: &[f64], ct: &[f64]) -> [Vec<f64>; 5] {
+    [m, ks, cs, kt, ct].map(<[f64]>::to_vec)
 }
 
 /// Truck axles with the preset damping rules.
-fn truck_arrays(m: &[f64], ks: &[f64], kt: &[f64]) -> AxleArrays {
+fn truck_arrays(m: &[f64], ks: &[f64], kt: &[f64]) -> [Vec<f64>; 5] {
     let cs: Vec<f64> = ks.iter().map(|k| k * SUSPENSION_DAMPING_S).collect();
     let ct = vec![TRUCK_TYRE_DAMPING_N_S_M; m.len()];
     arrays(m, ks, &cs, kt, &ct)
@@ -238,20 +160,13 @@ impl RigidTruckSpec {
 
     /// Fields given here override the preset's.
     fn resolved(&self, path: &str) -> Result<RigidTruckSpec> {
-        let base = match &self.preset {
-            Some(name) => RigidTruckSpec::preset(name)
-                .ok_or_else(|| unknown_preset(path, name, &RIGID_TRUCK_PRESETS))?,
-            None => RigidTruckSpec::default(),
-        };
-        Ok(RigidTruckSpec {
-            preset: self.preset.clone(),
-            body_mass_kg: self.body_mass_kg.or(base.body_mass_kg),
-            pitch_inertia_kg_m2: self.pitch_inertia_kg_m2.or(base.pitch_inertia_kg_m2),
-            cg_behind_front_m: self.cg_behind_front_m.or(base.cg_behind_front_m),
-            axle_spacing_m: self.axle_spacing_m.clone().or(base.axle_spacing_m.clone()),
-            ..Self::default()
-        }
-        .with_axle_arrays(self.axle_arrays().over(base.axle_arrays())))
+        let base = preset_or_default(
+            path,
+            &self.preset,
+            &RIGID_TRUCK_PRESETS,
+            RigidTruckSpec::preset,
+        )?;
+        Ok(self.overriding(base))
     }
 
     /// Validated model parameters; `path` is the scenario path ("vehicles.0.model").
@@ -268,7 +183,7 @@ impl RigidTruckSpec {
                 pitch_inertia_kg_m2: positive(s.pitch_inertia_kg_m2, &f("pitch_inertia_kg_m2"))?,
                 cg_behind_front_m: cg,
             },
-            axles: s.axle_arrays().validated(path, offsets.len())?,
+            axles: validated_axles(path, offsets.len(), s.axle_arrays())?,
             axle_offsets_m: offsets,
         })
     }
@@ -314,35 +229,13 @@ impl ArticulatedSpec {
 
     /// Fields given here override the preset's.
     fn resolved(&self, path: &str) -> Result<ArticulatedSpec> {
-        let base = match &self.preset {
-            Some(name) => ArticulatedSpec::preset(name)
-                .ok_or_else(|| unknown_preset(path, name, &ARTICULATED_PRESETS))?,
-            None => ArticulatedSpec::default(),
-        };
-        Ok(ArticulatedSpec {
-            preset: self.preset.clone(),
-            tractor_body_mass_kg: self.tractor_body_mass_kg.or(base.tractor_body_mass_kg),
-            tractor_pitch_inertia_kg_m2: self
-                .tractor_pitch_inertia_kg_m2
-                .or(base.tractor_pitch_inertia_kg_m2),
-            tractor_cg_behind_front_m: self
-                .tractor_cg_behind_front_m
-                .or(base.tractor_cg_behind_front_m),
-            trailer_body_mass_kg: self.trailer_body_mass_kg.or(base.trailer_body_mass_kg),
-            trailer_pitch_inertia_kg_m2: self
-                .trailer_pitch_inertia_kg_m2
-                .or(base.trailer_pitch_inertia_kg_m2),
-            trailer_cg_behind_front_m: self
-                .trailer_cg_behind_front_m
-                .or(base.trailer_cg_behind_front_m),
-            fifth_wheel_behind_front_m: self
-                .fifth_wheel_behind_front_m
-                .or(base.fifth_wheel_behind_front_m),
-            tractor_axle_count: self.tractor_axle_count.or(base.tractor_axle_count),
-            axle_spacing_m: self.axle_spacing_m.clone().or(base.axle_spacing_m.clone()),
-            ..Self::default()
-        }
-        .with_axle_arrays(self.axle_arrays().over(base.axle_arrays())))
+        let base = preset_or_default(
+            path,
+            &self.preset,
+            &ARTICULATED_PRESETS,
+            ArticulatedSpec::preset,
+        )?;
+        Ok(self.overriding(base))
     }
 
     /// Validated model parameters; `path` is the scenario path ("vehicles.0.model").
@@ -411,7 +304,7 @@ impl ArticulatedSpec {
             },
             fifth_wheel_behind_front_m: fifth_wheel,
             tractor_axle_count: tractor_axles,
-            axles: s.axle_arrays().validated(path, n)?,
+            axles: validated_axles(path, n, s.axle_arrays())?,
             axle_offsets_m: offsets,
         })
     }
@@ -419,99 +312,6 @@ impl ArticulatedSpec {
     /// Model name for the truth records: `articulated/<preset>`.
     pub fn model_name(&self) -> String {
         named("articulated", &self.preset)
-    }
-}
-
-impl AxleArrays {
-    /// Arrays given here override `base`'s, one by one.
-    fn over(&self, base: AxleArrays) -> AxleArrays {
-        AxleArrays {
-            axle_mass_kg: self.axle_mass_kg.clone().or(base.axle_mass_kg),
-            suspension_stiffness_n_m: self
-                .suspension_stiffness_n_m
-                .clone()
-                .or(base.suspension_stiffness_n_m),
-            suspension_damping_n_s_m: self
-                .suspension_damping_n_s_m
-                .clone()
-                .or(base.suspension_damping_n_s_m),
-            tyre_stiffness_n_m: self.tyre_stiffness_n_m.clone().or(base.tyre_stiffness_n_m),
-            tyre_damping_n_s_m: self.tyre_damping_n_s_m.clone().or(base.tyre_damping_n_s_m),
-        }
-    }
-
-    /// The `n` axles, every array checked for length and sign.
-    fn validated(&self, path: &str, n: usize) -> Result<Vec<AxleParams>> {
-        let f = |name: &str| format!("{path}.{name}");
-        let m = per_axle(&self.axle_mass_kg, &f("axle_mass_kg"), n, require_positive)?;
-        let ks = per_axle(
-            &self.suspension_stiffness_n_m,
-            &f("suspension_stiffness_n_m"),
-            n,
-            require_positive,
-        )?;
-        let cs = per_axle(
-            &self.suspension_damping_n_s_m,
-            &f("suspension_damping_n_s_m"),
-            n,
-            require_non_negative,
-        )?;
-        let kt = per_axle(
-            &self.tyre_stiffness_n_m,
-            &f("tyre_stiffness_n_m"),
-            n,
-            require_positive,
-        )?;
-        let ct = per_axle(
-            &self.tyre_damping_n_s_m,
-            &f("tyre_damping_n_s_m"),
-            n,
-            require_non_negative,
-        )?;
-        Ok((0..n)
-            .map(|j| AxleParams {
-                mass_kg: m[j],
-                suspension_stiffness_n_m: ks[j],
-                suspension_damping_n_s_m: cs[j],
-                tyre_stiffness_n_m: kt[j],
-                tyre_damping_n_s_m: ct[j],
-            })
-            .collect())
-    }
-}
-
-fn named(kind: &str, preset: &Option<String>) -> String {
-    match preset {
-        Some(p) => format!("{kind}/{p}"),
-        None => kind.to_string(),
-    }
-}
-
-fn unknown_preset(path: &str, name: &str, known: &[&str]) -> Error {
-    Error::invalid(
-        format!("{path}.preset"),
-        format!("\"{name}\""),
-        format!("is not a preset; known: {}", known.join(", ")),
-    )
-}
-
-fn required<T>(value: Option<T>, field: &str) -> Result<T> {
-    value.ok_or_else(|| Error::invalid(field, "(missing)", "is required when no preset gives it"))
-}
-
-fn positive(value: Option<f64>, field: &str) -> Result<f64> {
-    require_positive(field, required(value, field)?)
-}
-
-fn require_within(field: &str, value: f64, lo: f64, hi: f64, between: &str) -> Result<f64> {
-    if value.is_finite() && (lo..=hi).contains(&value) {
-        Ok(value)
-    } else {
-        Err(Error::invalid(
-            field,
-            num(value),
-            format!("must lie between {between}, in [{lo}, {hi}] m"),
-        ))
     }
 }
 
@@ -542,25 +342,4 @@ pub(crate) fn axle_offsets(
         offsets.push(offsets[i] + require_positive(&format!("{field}.{i}"), s)?);
     }
     Ok(offsets)
-}
-
-/// A per-axle array of `n` entries, each passing `check`.
-fn per_axle(
-    value: &Option<Vec<f64>>,
-    field: &str,
-    n: usize,
-    check: fn(&str, f64) -> Result<f64>,
-) -> Result<Vec<f64>> {
-    let values = required(value.clone(), field)?;
-    if values.len() != n {
-        return Err(Error::invalid(
-            field,
-            format!("{values:?}"),
-            format!("must have {n} entries, one per axle (axle_spacing_m gives {n} axles)"),
-        ));
-    }
-    for (i, &v) in values.iter().enumerate() {
-        check(&format!("{field}.{i}"), v)?;
-    }
-    Ok(values)
 }

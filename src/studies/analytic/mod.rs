@@ -23,6 +23,7 @@
 //!   Newmark average-acceleration period elongation.
 
 pub mod beam;
+pub mod crossing;
 pub mod dopri45;
 pub mod frf;
 pub mod moving_force;
@@ -32,6 +33,7 @@ pub mod road_irregularity;
 pub mod sprung_mass;
 
 pub use beam::{ModalDamping, SimplySupportedBeam};
+pub use crossing::{CrossingDefaults, CrossingOptions};
 pub use dopri45::{Dopri45, Dopri45Options, Dopri45Stats};
 pub use frf::{harmonic_response, HarmonicResponse};
 pub use moving_force::{MovingForceSolution, MovingLoadTrain};

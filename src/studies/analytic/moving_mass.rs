@@ -34,52 +34,22 @@
 //! reason as in [`super::sprung_mass`] (explicit stability of the undamped top modes on
 //! the imaginary axis). The added mass only lowers the frequencies, so the cap still holds.
 
-use std::f64::consts::PI;
+use super::beam::{harmonics, SimplySupportedBeam};
+use super::crossing::{validate_sample_times, BeamModes, CrossingDefaults, CrossingOptions};
+use super::dopri45::Dopri45Stats;
+use crate::error::{require_positive, Error, Result};
 
-use super::beam::{harmonics, require_mode_count, ModalDamping, SimplySupportedBeam};
-use super::dopri45::{Dopri45, Dopri45Options, Dopri45Stats};
-use crate::error::{require_non_negative, require_positive, Error, Result};
+pub use super::crossing::MAX_MODES;
 
-/// Largest mode count accepted (cost grows as N^3, as for the sprung mass).
-pub const MAX_MODES: usize = 400;
+/// Model and integration settings: 50 modes and steps of at most 2e-5 s by default (the
+/// common defaults are at [`CrossingOptions`]). The peaks are taken at the accepted steps,
+/// and a step h samples a peak of frequency w within (w h)^2 / 8 (3e-8 at 4 Hz); with few
+/// modes the stability cap alone would allow steps of ~T_1 / 10.
+pub type MovingMassOptions = CrossingOptions<MovingMassProblem>;
 
-/// Model and integration settings.
-#[derive(Debug, Clone, PartialEq)]
-pub struct MovingMassOptions {
-    /// Number of beam modes. Default 50.
-    pub n_modes: usize,
-    /// Modal damping of the beam. Default none.
-    pub damping: ModalDamping,
-    /// Gravitational acceleration, m/s^2. Default 9.81.
-    pub gravity_m_s2: f64,
-    /// Relative tolerance of the integrator. Default 1e-9.
-    pub rtol: f64,
-    /// Absolute tolerance on modal displacements, m. Default 1e-12.
-    pub atol_displacement_m: f64,
-    /// Absolute tolerance on modal velocities, m/s. Default 1e-9.
-    pub atol_velocity_m_s: f64,
-    /// Step cap as a fraction of the top modal eigenvalue, in `(0, 0.95]`. Default 0.5
-    /// (see [`super::sprung_mass`] for why).
-    pub step_stability_factor: f64,
-    /// Largest integration step, s. Default 2e-5: the peaks are taken at the accepted
-    /// steps, and a step h samples a peak of frequency w within (w h)^2 / 8 (3e-8 at
-    /// 4 Hz). With few modes the stability cap alone would allow steps of ~T_1 / 10.
-    pub max_step_s: f64,
-}
-
-impl Default for MovingMassOptions {
-    fn default() -> Self {
-        Self {
-            n_modes: 50,
-            damping: ModalDamping::None,
-            gravity_m_s2: 9.81,
-            rtol: 1e-9,
-            atol_displacement_m: 1e-12,
-            atol_velocity_m_s: 1e-9,
-            step_stability_factor: 0.5,
-            max_step_s: 2e-5,
-        }
-    }
+impl CrossingDefaults for MovingMassProblem {
+    const N_MODES: usize = 50;
+    const MAX_STEP_S: f64 = 2e-5;
 }
 
 /// The crossing to solve.
@@ -127,13 +97,9 @@ pub struct MovingMassSolution {
 struct Model {
     n: usize,
     speed_m_s: f64,
-    wavenumber_per_m: f64,
-    omega_sq: Vec<f64>,
-    two_zeta_omega: Vec<f64>,
-    modal_mass_kg: f64,
+    modes: BeamModes,
     mass_kg: f64,
     gravity_m_s2: f64,
-    midspan_shape: Vec<f64>,
 }
 
 /// Mode shapes and their x-derivatives at the mass.
@@ -167,16 +133,16 @@ impl Model {
         let n = self.n;
         let (q, qd) = (&y[..n], &y[n..2 * n]);
         for j in 0..n {
-            ws.b[j] =
-                -self.modal_mass_kg * (self.two_zeta_omega[j] * qd[j] + self.omega_sq[j] * q[j]);
+            ws.b[j] = -self.modes.modal_mass_kg
+                * (self.modes.two_zeta_omega[j] * qd[j] + self.modes.omega_sq[j] * q[j]);
         }
         if !on_beam {
             for (a, b) in qdd.iter_mut().zip(&ws.b) {
-                *a = b / self.modal_mass_kg;
+                *a = b / self.modes.modal_mass_kg;
             }
             return self.mass_kg * self.gravity_m_s2;
         }
-        let k = self.wavenumber_per_m;
+        let k = self.modes.wavenumber_per_m;
         let v = self.speed_m_s;
         harmonics(k * v * t, &mut ws.sin, &mut ws.cos);
         // Convective part of u'': 2 v w_xt + v^2 w_xx at the mass.
@@ -194,9 +160,9 @@ impl Model {
             phi_b += ws.sin[j] * ws.b[j];
         }
         // Sherman-Morrison: s = phi^T q''.
-        let s = phi_b / (self.modal_mass_kg + self.mass_kg * phi_sq);
+        let s = phi_b / (self.modes.modal_mass_kg + self.mass_kg * phi_sq);
         for ((a, b), phi) in qdd.iter_mut().zip(&ws.b).zip(&ws.sin) {
-            *a = (b - self.mass_kg * phi * s) / self.modal_mass_kg;
+            *a = (b - self.mass_kg * phi * s) / self.modes.modal_mass_kg;
         }
         // u'' = phi^T q'' + convective terms.
         self.mass_kg * (self.gravity_m_s2 - s - coriolis - centripetal)
@@ -207,14 +173,6 @@ impl Model {
         dydt[..n].copy_from_slice(&y[n..2 * n]);
         let (_, qdd) = dydt.split_at_mut(n);
         self.accelerations(ws, t, y, on_beam, qdd);
-    }
-
-    fn midspan(&self, y: &[f64]) -> f64 {
-        y[..self.n]
-            .iter()
-            .zip(&self.midspan_shape)
-            .map(|(q, s)| q * s)
-            .sum()
     }
 
     fn sample(&self, ws: &mut Workspace, t: f64, y: &[f64], on_beam: bool) -> MovingMassSample {
@@ -228,7 +186,7 @@ impl Model {
         };
         MovingMassSample {
             time_s: t,
-            midspan_deflection_m: self.midspan(y),
+            midspan_deflection_m: self.modes.midspan(y),
             contact_deflection_m: contact,
             contact_force_n: force,
         }
@@ -241,27 +199,7 @@ impl MovingMassProblem {
         self.beam.validate()?;
         require_positive("mass_kg", self.mass_kg)?;
         require_positive("speed_m_s", self.speed_m_s)?;
-        let o = &self.options;
-        require_mode_count("options.n_modes", o.n_modes, MAX_MODES)?;
-        o.damping.validate()?;
-        require_non_negative("options.gravity_m_s2", o.gravity_m_s2)?;
-        require_positive("options.rtol", o.rtol)?;
-        require_positive("options.atol_displacement_m", o.atol_displacement_m)?;
-        require_positive("options.atol_velocity_m_s", o.atol_velocity_m_s)?;
-        if !(o.step_stability_factor > 0.0 && o.step_stability_factor <= 0.95) {
-            return Err(Error::invalid(
-                "options.step_stability_factor",
-                o.step_stability_factor,
-                "must be in (0, 0.95]",
-            ));
-        }
-        if o.max_step_s.is_nan() || o.max_step_s <= 0.0 {
-            return Err(Error::invalid(
-                "options.max_step_s",
-                o.max_step_s,
-                "must be > 0",
-            ));
-        }
+        self.options.validate()?;
         Ok(())
     }
 
@@ -274,60 +212,24 @@ impl MovingMassProblem {
     /// `sample_times_s` (finite, >= 0, non-decreasing).
     pub fn solve(&self, sample_times_s: &[f64]) -> Result<MovingMassSolution> {
         self.validate()?;
-        for (i, &t) in sample_times_s.iter().enumerate() {
-            if !(t.is_finite() && t >= 0.0) || (i > 0 && t < sample_times_s[i - 1]) {
-                return Err(Error::invalid(
-                    format!("sample_times_s[{i}]"),
-                    t,
-                    "must be finite, >= 0 and not decreasing",
-                ));
-            }
-        }
+        validate_sample_times(sample_times_s)?;
         let t_end = sample_times_s.last().copied().unwrap_or(0.0);
         let beam = &self.beam;
         let o = &self.options;
         let n = o.n_modes;
-        let omega: Vec<f64> = (1..=n).map(|j| beam.omega_rad_s(j)).collect();
-        let largest_eigenvalue = omega
-            .iter()
-            .map(|&w| {
-                let zeta = o.damping.zeta(w);
-                if zeta <= 1.0 {
-                    w
-                } else {
-                    w * (zeta + ((zeta - 1.0) * (zeta + 1.0)).sqrt())
-                }
-            })
-            .fold(0.0, f64::max);
         let model = Model {
             n,
             speed_m_s: self.speed_m_s,
-            wavenumber_per_m: PI / beam.span_m,
-            omega_sq: omega.iter().map(|w| w * w).collect(),
-            two_zeta_omega: omega.iter().map(|&w| 2.0 * o.damping.zeta(w) * w).collect(),
-            modal_mass_kg: beam.modal_mass_kg(),
+            modes: BeamModes::new(beam, n, &o.damping),
             mass_kg: self.mass_kg,
             gravity_m_s2: o.gravity_m_s2,
-            midspan_shape: (1..=n)
-                .map(|j| beam.mode_shape(j, 0.5 * beam.span_m))
-                .collect(),
         };
         let mut rhs_ws = Workspace::new(n);
         let mut observer_ws = Workspace::new(n);
         let exit_s = self.exit_time_s();
         let mut atol = vec![o.atol_displacement_m; 2 * n];
         atol[n..].fill(o.atol_velocity_m_s);
-        let mut solver = Dopri45::new(
-            2 * n,
-            Dopri45Options {
-                rtol: o.rtol,
-                atol,
-                max_step_s: o
-                    .max_step_s
-                    .min(o.step_stability_factor / largest_eigenvalue),
-                ..Default::default()
-            },
-        )?;
+        let mut solver = o.integrator(&model.modes, atol)?;
         let mut state = vec![0.0; 2 * n];
         let mut samples = Vec::with_capacity(sample_times_s.len());
         let mut next_sample = 0;
@@ -352,7 +254,7 @@ impl MovingMassProblem {
                 let mut rhs =
                     |tt: f64, y: &[f64], d: &mut [f64]| model.rhs(&mut rhs_ws, tt, y, d, on_beam);
                 solver.advance(&mut rhs, t, target, &mut state, &mut |tt, y| {
-                    let w_mid = model.midspan(y);
+                    let w_mid = model.modes.midspan(y);
                     if w_mid > peak.1 {
                         peak = (tt, w_mid);
                     }
@@ -391,7 +293,7 @@ impl MovingMassProblem {
 mod tests {
     use super::*;
     use crate::studies::analytic::{
-        MovingForceSolution, SprungMassOptions, SprungMassProblem, SprungMassVehicle,
+        ModalDamping, MovingForceSolution, SprungMassOptions, SprungMassProblem, SprungMassVehicle,
     };
 
     fn beam() -> SimplySupportedBeam {

@@ -41,7 +41,7 @@
 //! character of the production solvers this module checks. So every mode is integrated
 //! dynamically, and the step is capped at `y / |lambda|_max` with `|lambda|_max` the largest
 //! modal eigenvalue (`w_N` for under-damped modes) and `y` =
-//! [`SprungMassOptions::step_stability_factor`] (default 0.5). Reason: on the imaginary
+//! [`CrossingOptions::step_stability_factor`](super::CrossingOptions::step_stability_factor) (default 0.5). Reason: on the imaginary
 //! axis the Dormand-Prince stability function satisfies `|R(iy)| < 1` only for
 //! `|y| < ~0.99`. Left to the error controller alone, undamped top modes sit at `w h ~ 1`,
 //! grow slowly, and are reined in only once their amplitude reaches ~1e3 x atol (the
@@ -56,15 +56,13 @@
 //! discontinuous where the mass leaves the beam and at kinks of the road profile: the
 //! integration restarts exactly there.
 
-use std::f64::consts::PI;
-
-use super::beam::{harmonics, require_mode_count, ModalDamping, SimplySupportedBeam};
-use super::dopri45::{Dopri45, Dopri45Options, Dopri45Stats};
+use super::beam::{harmonics, SimplySupportedBeam};
+use super::crossing::{validate_sample_times, BeamModes, CrossingDefaults, CrossingOptions};
+use super::dopri45::Dopri45Stats;
 use super::road_irregularity::RoadIrregularity;
 use crate::error::{require_non_negative, require_positive, Error, Result};
 
-/// Largest mode count accepted (cost grows as N^3).
-pub const MAX_MODES: usize = 400;
+pub use super::crossing::MAX_MODES;
 
 /// The vehicle: a mass on a linear spring and dashpot.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -88,43 +86,13 @@ impl SprungMassVehicle {
     }
 }
 
-/// Model and integration settings.
-#[derive(Debug, Clone, PartialEq)]
-pub struct SprungMassOptions {
-    /// Number of beam modes. Default 100.
-    pub n_modes: usize,
-    /// Modal damping of the beam. Default none.
-    pub damping: ModalDamping,
-    /// Gravitational acceleration, m/s^2. Default 9.81.
-    pub gravity_m_s2: f64,
-    /// Relative tolerance of the integrator. Default 1e-9.
-    pub rtol: f64,
-    /// Absolute tolerance on modal and mass displacements, m. Default 1e-12.
-    pub atol_displacement_m: f64,
-    /// Absolute tolerance on modal and mass velocities, m/s. Default 1e-9.
-    pub atol_velocity_m_s: f64,
-    /// Largest integration step, s. Default infinity; the step is always also capped at
-    /// `step_stability_factor / |lambda|_max` of the beam modes (see the module docs).
-    pub max_step_s: f64,
-    /// Step cap as a fraction `y = |lambda|_max h` of the top modal eigenvalue, in
-    /// `(0, 0.95]`. The method damps a mode at `y` by ~`y^6 / 10 700` per step. Default 0.5
-    /// (top mode: 1.5e-6 per step; peaks converged to ~1e-8).
-    pub step_stability_factor: f64,
-}
+/// Model and integration settings: 100 modes and no step limit but the stability cap by
+/// default (the common defaults are at [`CrossingOptions`]).
+pub type SprungMassOptions = CrossingOptions<SprungMassProblem>;
 
-impl Default for SprungMassOptions {
-    fn default() -> Self {
-        Self {
-            n_modes: 100,
-            damping: ModalDamping::None,
-            gravity_m_s2: 9.81,
-            rtol: 1e-9,
-            atol_displacement_m: 1e-12,
-            atol_velocity_m_s: 1e-9,
-            max_step_s: f64::INFINITY,
-            step_stability_factor: 0.5,
-        }
-    }
+impl CrossingDefaults for SprungMassProblem {
+    const N_MODES: usize = 100;
+    const MAX_STEP_S: f64 = f64::INFINITY;
 }
 
 /// The crossing to solve.
@@ -211,14 +179,10 @@ struct Contact {
 struct Model<'a> {
     n: usize,
     speed_m_s: f64,
-    wavenumber_per_m: f64,
-    omega_sq: Vec<f64>,
-    two_zeta_omega: Vec<f64>,
+    modes: BeamModes,
     force_to_modal: f64,
-    midspan_shape: Vec<f64>,
     vehicle: SprungMassVehicle,
     weight_n: f64,
-    modal_mass_kg: f64,
     road: Option<&'a RoadIrregularity>,
 }
 
@@ -244,7 +208,7 @@ impl Model<'_> {
         let x = self.speed_m_s * t;
         let (mut w, mut w_rate) = (0.0, 0.0);
         if seg.on_beam {
-            harmonics(self.wavenumber_per_m * x, &mut ws.sin, &mut ws.cos);
+            harmonics(self.modes.wavenumber_per_m * x, &mut ws.sin, &mut ws.cos);
             let mut slope = 0.0;
             for j in 0..n {
                 w += y[j] * ws.sin[j];
@@ -252,7 +216,7 @@ impl Model<'_> {
                 slope += y[j] * (j + 1) as f64 * ws.cos[j];
             }
             // dw/dt + v dw/dx (the convective term).
-            w_rate += self.speed_m_s * self.wavenumber_per_m * slope;
+            w_rate += self.speed_m_s * self.modes.wavenumber_per_m * slope;
         }
         let (elevation_m, road_rate) = match self.road {
             Some(road) => {
@@ -293,18 +257,11 @@ impl Model<'_> {
             } else {
                 0.0
             };
-            dydt[n + j] = load - self.two_zeta_omega[j] * y[n + j] - self.omega_sq[j] * y[j];
+            dydt[n + j] =
+                load - self.modes.two_zeta_omega[j] * y[n + j] - self.modes.omega_sq[j] * y[j];
         }
         dydt[2 * n] = y[2 * n + 1];
         dydt[2 * n + 1] = -contact.dynamic_force_n / self.vehicle.mass_kg;
-    }
-
-    fn midspan(&self, y: &[f64]) -> f64 {
-        y[..self.n]
-            .iter()
-            .zip(&self.midspan_shape)
-            .map(|(q, s)| q * s)
-            .sum()
     }
 
     fn sample(&self, ws: &mut Workspace, t: f64, y: &[f64], seg: Segment) -> SprungMassSample {
@@ -312,7 +269,8 @@ impl Model<'_> {
         let contact = self.contact(ws, t, y, seg);
         let beam_energy_j = (0..n)
             .map(|j| {
-                0.5 * self.modal_mass_kg * (y[n + j].powi(2) + self.omega_sq[j] * y[j].powi(2))
+                0.5 * self.modes.modal_mass_kg
+                    * (y[n + j].powi(2) + self.modes.omega_sq[j] * y[j].powi(2))
             })
             .sum();
         let vehicle_energy_j = 0.5 * self.vehicle.mass_kg * y[2 * n + 1].powi(2)
@@ -320,7 +278,7 @@ impl Model<'_> {
         SprungMassSample {
             time_s: t,
             position_m: self.speed_m_s * t,
-            midspan_deflection_m: self.midspan(y),
+            midspan_deflection_m: self.modes.midspan(y),
             contact_deflection_m: contact.deflection_m,
             contact_force_n: contact.force_n,
             mass_displacement_m: y[2 * n],
@@ -339,27 +297,7 @@ impl SprungMassProblem {
         self.beam.validate()?;
         self.vehicle.validate()?;
         require_positive("speed_m_s", self.speed_m_s)?;
-        let o = &self.options;
-        require_mode_count("options.n_modes", o.n_modes, MAX_MODES)?;
-        o.damping.validate()?;
-        require_non_negative("options.gravity_m_s2", o.gravity_m_s2)?;
-        require_positive("options.rtol", o.rtol)?;
-        require_positive("options.atol_displacement_m", o.atol_displacement_m)?;
-        require_positive("options.atol_velocity_m_s", o.atol_velocity_m_s)?;
-        if !(o.step_stability_factor > 0.0 && o.step_stability_factor <= 0.95) {
-            return Err(Error::invalid(
-                "options.step_stability_factor",
-                o.step_stability_factor,
-                "must be in (0, 0.95]",
-            ));
-        }
-        if o.max_step_s.is_nan() || o.max_step_s <= 0.0 {
-            return Err(Error::invalid(
-                "options.max_step_s",
-                o.max_step_s,
-                "must be > 0",
-            ));
-        }
+        self.options.validate()?;
         Ok(())
     }
 
@@ -372,55 +310,19 @@ impl SprungMassProblem {
     /// `sample_times_s` (finite, >= 0, non-decreasing).
     pub fn solve(&self, sample_times_s: &[f64]) -> Result<SprungMassSolution> {
         self.validate()?;
-        for (i, &t) in sample_times_s.iter().enumerate() {
-            if !(t.is_finite() && t >= 0.0) {
-                return Err(Error::invalid(
-                    format!("sample_times_s[{i}]"),
-                    t,
-                    "must be finite and >= 0",
-                ));
-            }
-            if i > 0 && t < sample_times_s[i - 1] {
-                return Err(Error::invalid(
-                    format!("sample_times_s[{i}]"),
-                    t,
-                    "must not decrease",
-                ));
-            }
-        }
+        validate_sample_times(sample_times_s)?;
         let t_end = sample_times_s.last().copied().unwrap_or(0.0);
         let beam = &self.beam;
         let o = &self.options;
         let n = o.n_modes;
         let v = self.speed_m_s;
-        let omega: Vec<f64> = (1..=n).map(|j| beam.omega_rad_s(j)).collect();
-        // Largest modal eigenvalue magnitude: w for under-damped modes, the fast root
-        // zeta w + w sqrt(zeta^2 - 1) for over-damped ones.
-        let largest_eigenvalue = omega
-            .iter()
-            .map(|&w| {
-                let zeta = o.damping.zeta(w);
-                if zeta <= 1.0 {
-                    w
-                } else {
-                    w * (zeta + ((zeta - 1.0) * (zeta + 1.0)).sqrt())
-                }
-            })
-            .fold(0.0, f64::max);
-        let stability_cap_s = o.step_stability_factor / largest_eigenvalue;
         let model = Model {
             n,
             speed_m_s: v,
-            wavenumber_per_m: PI / beam.span_m,
-            omega_sq: omega.iter().map(|w| w * w).collect(),
-            two_zeta_omega: omega.iter().map(|&w| 2.0 * o.damping.zeta(w) * w).collect(),
+            modes: BeamModes::new(beam, n, &o.damping),
             force_to_modal: 2.0 / (beam.mass_per_length_kg_m * beam.span_m),
-            midspan_shape: (1..=n)
-                .map(|j| beam.mode_shape(j, 0.5 * beam.span_m))
-                .collect(),
             vehicle: self.vehicle,
             weight_n: self.vehicle.mass_kg * o.gravity_m_s2,
-            modal_mass_kg: beam.modal_mass_kg(),
             road: self.road.as_ref(),
         };
         let mut rhs_ws = Workspace::new(n);
@@ -448,16 +350,7 @@ impl SprungMassProblem {
         let mut atol = vec![o.atol_displacement_m; 2 * n + 2];
         atol[n..2 * n].fill(o.atol_velocity_m_s);
         atol[2 * n + 1] = o.atol_velocity_m_s;
-        let mut solver = Dopri45::new(
-            2 * n + 2,
-            Dopri45Options {
-                rtol: o.rtol,
-                atol,
-                max_step_s: o.max_step_s.min(stability_cap_s),
-                ..Default::default()
-            },
-        )?;
-
+        let mut solver = o.integrator(&model.modes, atol)?;
         let mut samples = Vec::with_capacity(sample_times_s.len());
         let mut next_sample = 0;
         let mut peak = (0.0, 0.0);
@@ -491,7 +384,7 @@ impl SprungMassProblem {
                 let mut rhs =
                     |tt: f64, y: &[f64], d: &mut [f64]| model.rhs(&mut rhs_ws, tt, y, d, seg);
                 solver.advance(&mut rhs, t, target, &mut state, &mut |tt, y| {
-                    let w_mid = model.midspan(y);
+                    let w_mid = model.modes.midspan(y);
                     if w_mid > peak.1 {
                         peak = (tt, w_mid);
                     }

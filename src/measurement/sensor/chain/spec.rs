@@ -50,7 +50,7 @@ pub struct ChainSpec {
 
 /// Sensor coupling, tagged by `kind`.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+#[serde(remote = "Self", rename_all = "snake_case", deny_unknown_fields)]
 pub enum CouplingSpec {
     /// First-order high-pass; `highpass_hz` (> 0, < fs/2) defaults to the preset's when
     /// the preset is AC-coupled and is required otherwise.
@@ -61,6 +61,7 @@ pub enum CouplingSpec {
     /// Passes DC; bias and drift from the `bias*` fields or the preset.
     Dc,
 }
+crate::base::tagged::kind_tagged!(CouplingSpec);
 
 /// Mains hum overrides. Absent fields keep the preset's values; where the preset has no
 /// hum, `frequency_hz` defaults to 50 and `amplitude` is required.
