@@ -54,9 +54,7 @@ fn layer_rules() -> BTreeMap<&'static str, Vec<&'static str>> {
 const PHYSICS: &[(&str, &[&str])] = &[
     ("bridge", &[]),
     ("road", &[]),
-    // The half car's generalized modes still come from the bridge's modal helper; the
-    // move into the solver is under way.
-    ("vehicle", &["bridge"]),
+    ("vehicle", &[]),
     ("solver", &["bridge", "road", "vehicle"]),
     ("environment", &["bridge"]),
     // The ambient calibration is checked by integrating the bridge (a unit test).
