@@ -18,6 +18,10 @@
 //! - [`sprung_mass`]: a sprung mass crossing the beam, coupled through its suspension,
 //!   integrated in modal coordinates with an adaptive Dormand-Prince method ([`dopri45`]),
 //!   optionally over a deterministic road profile ([`road_irregularity`]).
+//! - [`vehicle_crossing`]: the same for a linear vehicle on several tyres (half car,
+//!   multi-axle truck), given by its matrices.
+//! - [`crossing`]: what the modal crossings share, with the bound on their mode-truncation
+//!   error.
 //! - [`frf`]: steady-state harmonic response of linear MDOF systems to base excitation.
 //! - [`oscillator`]: the exact damped single-degree-of-freedom free response and the
 //!   Newmark average-acceleration period elongation.
@@ -31,9 +35,10 @@ pub mod moving_mass;
 pub mod oscillator;
 pub mod road_irregularity;
 pub mod sprung_mass;
+pub mod vehicle_crossing;
 
 pub use beam::{ModalDamping, SimplySupportedBeam};
-pub use crossing::{CrossingDefaults, CrossingOptions};
+pub use crossing::{midspan_truncation_bound_m, ContactTail, CrossingDefaults, CrossingOptions};
 pub use dopri45::{Dopri45, Dopri45Options, Dopri45Stats};
 pub use frf::{harmonic_response, HarmonicResponse};
 pub use moving_force::{MovingForceSolution, MovingLoadTrain};
@@ -43,4 +48,8 @@ pub use oscillator::{
 pub use road_irregularity::RoadIrregularity;
 pub use sprung_mass::{
     SprungMassOptions, SprungMassProblem, SprungMassSample, SprungMassSolution, SprungMassVehicle,
+};
+pub use vehicle_crossing::{
+    LinearVehicle, Tyre, VehicleCrossingOptions, VehicleCrossingProblem, VehicleCrossingSample,
+    VehicleCrossingSolution,
 };

@@ -57,7 +57,10 @@
 //! integration restarts exactly there.
 
 use super::beam::{harmonics, SimplySupportedBeam};
-use super::crossing::{validate_sample_times, BeamModes, CrossingDefaults, CrossingOptions};
+use super::crossing::{
+    midspan_truncation_bound_m, validate_sample_times, BeamModes, ContactTail, CrossingDefaults,
+    CrossingOptions,
+};
 use super::dopri45::Dopri45Stats;
 use super::road_irregularity::RoadIrregularity;
 use crate::error::{require_non_negative, require_positive, Error, Result};
@@ -152,6 +155,13 @@ pub struct SprungMassSolution {
     /// Smallest contact force over the integration steps, N (negative = tension, i.e. the
     /// wheel would lift off; not modelled).
     pub min_contact_force_n: f64,
+    /// Largest |contact force| over the integration steps with the mass on the beam, N.
+    pub max_contact_force_on_beam_n: f64,
+    /// Bound on the mode-truncation error of the midspan deflection while the mass is on
+    /// the beam, m: [`super::crossing::midspan_truncation_bound_m`] with this solution's
+    /// largest contact force, the dashpot's force jumps at the road's kinks on the beam,
+    /// and `w_c` twice the larger of the vehicle's and the beam's first frequency.
+    pub truncation_bound_m: f64,
     /// Integrator work counters.
     pub stats: Dopri45Stats,
 }
@@ -356,6 +366,7 @@ impl SprungMassProblem {
         let mut peak = (0.0, 0.0);
         let mut peak_on_beam = 0.0_f64;
         let mut min_force = f64::INFINITY;
+        let mut max_force_on_beam = 0.0_f64;
         let mut t = 0.0;
         for window in breaks
             .windows(2)
@@ -393,6 +404,9 @@ impl SprungMassProblem {
                     }
                     let force = model.contact(&mut observer_ws, tt, y, seg).force_n;
                     min_force = min_force.min(force);
+                    if seg.on_beam {
+                        max_force_on_beam = max_force_on_beam.max(force.abs());
+                    }
                 })?;
                 t = target;
                 if state.iter().any(|s| !s.is_finite()) {
@@ -412,7 +426,44 @@ impl SprungMassProblem {
             peak_time_s: peak.0,
             peak_midspan_deflection_on_beam_m: peak_on_beam,
             min_contact_force_n: min_force,
+            max_contact_force_on_beam_n: max_force_on_beam,
+            truncation_bound_m: self.truncation_bound_m(max_force_on_beam),
             stats: solver.stats(),
         })
+    }
+
+    /// The truncation bound of this crossing for a largest contact force on the beam of
+    /// `max_force_n` (see [`SprungMassSolution::truncation_bound_m`]).
+    fn truncation_bound_m(&self, max_force_n: f64) -> f64 {
+        let beam = &self.beam;
+        let v = self.speed_m_s;
+        // The dashpot force jumps by c v |d(dr/dx)| where the road's slope jumps.
+        let jumps_n: f64 = match &self.road {
+            Some(road) => {
+                let h = 1e-9 * beam.span_m;
+                road.kinks_m()
+                    .iter()
+                    .filter(|&&x| x > 0.0 && x < beam.span_m)
+                    .map(|&x| {
+                        self.vehicle.damping_n_s_m
+                            * v
+                            * (road.slope(x + h) - road.slope(x - h)).abs()
+                    })
+                    .sum()
+            }
+            None => 0.0,
+        };
+        let vehicle_rad_s = (self.vehicle.stiffness_n_m / self.vehicle.mass_kg).sqrt();
+        midspan_truncation_bound_m(
+            beam,
+            self.options.n_modes,
+            v,
+            2.0 * vehicle_rad_s.max(beam.omega_rad_s(1)),
+            &[ContactTail {
+                force_bound_n: max_force_n + jumps_n,
+                stiffness_n_m: self.vehicle.stiffness_n_m,
+                damping_n_s_m: self.vehicle.damping_n_s_m,
+            }],
+        )
     }
 }
