@@ -17,7 +17,7 @@ pub use beam_checks::{
 pub use harness::{manufactured_history, moving_force_history, ManufacturedCase, MovingForceCase};
 pub use vbi::{
     approach_equilibrium, road_profiles, sine_road_response, sprung_mass_crossing, static_loads,
-    suspension_limits, truck_vs_moving_forces, unilateral_contact,
+    suspension_limits, truck_vs_moving_forces, unilateral_contact, TRUCK_COUPLED_REFERENCE,
 };
 
 /// One row of the ladder.

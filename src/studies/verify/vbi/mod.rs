@@ -34,7 +34,7 @@ pub use limits::suspension_limits;
 pub use road::road_profiles;
 pub use sprung_mass::sprung_mass_crossing;
 pub use static_loads::static_loads;
-pub use truck::truck_vs_moving_forces;
+pub use truck::{truck_vs_moving_forces, TRUCK_COUPLED_REFERENCE};
 
 /// The VBI-2D verification beam (docs/physics.md section 6): 25 m, E 3.5e10 Pa, I 1.3901 m^4,
 /// m 18 358 kg/m (f1 = 4.09 Hz).
