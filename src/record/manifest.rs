@@ -100,6 +100,17 @@ pub struct SensorChannelInfo {
     pub gauge_depth_m: Option<f64>,
     /// Whether the sensor has faults configured.
     pub has_faults: bool,
+    /// The preview channels of the sensor, if the run writes them.
+    pub preview: Option<PreviewInfo>,
+}
+
+/// A sensor's preview: its streams decimated by a whole factor for viewers.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PreviewInfo {
+    /// Sensor samples per preview sample.
+    pub factor: u64,
+    /// The preview's nominal rate, the sensor's over `factor` (Hz).
+    pub rate_hz: f64,
 }
 
 /// One weigh-in-motion station.

@@ -57,6 +57,8 @@ pub struct ResolvedSensor {
     pub design: ChannelDesign,
     /// The node clock that samples and stamps this sensor, before its first sample.
     pub clock: Option<NodeClock>,
+    /// Sensor samples per preview sample, when the run writes a preview.
+    pub preview_factor: Option<u64>,
 }
 
 impl ResolvedSensor {
