@@ -113,6 +113,9 @@ pub struct Resolved {
     /// The scenario as the user wrote it (stored in the output); empty for a scenario
     /// built in code. Set by the caller that read the file.
     pub source_toml: String,
+    /// The source revision written into the output's `bridgetwin` metadata: the build's,
+    /// or the one given at run time (see `base::build_info::REVISION_OVERRIDE_VAR`).
+    pub git_revision: String,
 }
 
 impl Resolved {
