@@ -22,6 +22,12 @@ use std::time::{Duration, Instant};
 
 use bridgetwin::scenario::DEFAULT_SCENARIO_TOML;
 
+#[path = "support/schema.rs"]
+mod schema;
+
+#[path = "support/bad_input_schema.rs"]
+mod bad_input_schema;
+
 const BIN: &str = env!("CARGO_BIN_EXE_bridgetwin");
 
 /// A run that has not exited by then has been accepted and is simulating: a failure.
@@ -1432,6 +1438,39 @@ fn output() {
 #[test]
 fn cli() {
     run_all("CLI", &cli_cases());
+}
+
+/// Every case of the catalogue.
+fn all_cases() -> Vec<Case> {
+    [
+        syntax_cases(),
+        physics_cases(),
+        output_cases(),
+        cli_cases(),
+        monitoring_cases(),
+        traffic_cases(),
+        condition_cases(),
+    ]
+    .into_iter()
+    .flatten()
+    .collect()
+}
+
+#[test]
+fn the_schema_rejects_every_case_it_can_see() {
+    // Editors validate with the scenario's JSON Schema; see support/bad_input_schema.rs
+    // for the cases it accepts and why.
+    let cases = all_cases();
+    let views: Vec<bad_input_schema::CaseView> = cases
+        .iter()
+        .map(|c| bad_input_schema::CaseView {
+            name: &c.name,
+            scenario: c.scenario.as_deref(),
+            expect: &c.expect,
+        })
+        .collect();
+    let report = bad_input_schema::disagreements(&views, &edited(&[]));
+    assert!(report.is_empty(), "{}", report.join("\n"));
 }
 
 #[test]

@@ -50,6 +50,13 @@ pub enum ScenarioCommand {
         /// Scenario TOML.
         file: PathBuf,
     },
+    /// Print the scenario format as a JSON Schema (draft-07) for TOML editors, generated
+    /// from the code: every key with its type, unit, default and allowed values
+    /// (docs/scenario.schema.json).
+    Schema,
+    /// Print the scenario reference in Markdown, generated from the same schema
+    /// (docs/scenario.md).
+    Docs,
 }
 
 #[derive(Debug, clap::Args)]
@@ -104,6 +111,14 @@ pub fn main() -> ExitCode {
         }
         Command::Scenario(ScenarioCommand::Check { file }) => {
             simulate_cmd::check(&file).map(|()| true)
+        }
+        Command::Scenario(ScenarioCommand::Schema) => {
+            simulate_cmd::schema();
+            Ok(true)
+        }
+        Command::Scenario(ScenarioCommand::Docs) => {
+            simulate_cmd::docs();
+            Ok(true)
         }
         Command::Inspect(args) => inspect_cmd::run(&args).map(|()| true),
         Command::Sweep(args) => sweep_cmd::run(&args).map(|()| true),

@@ -4,13 +4,14 @@
 //! from the resolved scenario and the model; an output registers its channels and
 //! writes its metadata from it alone.
 
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 use super::quantities::SensorKind;
 use crate::base::rate::ExactRate;
 
 /// How sensor samples are laid out in messages.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum Layout {
     /// One sample per message: every field plottable as a time series.
