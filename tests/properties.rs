@@ -295,6 +295,12 @@ fn record_floats(record: &Record) -> Vec<(&'static str, f64)> {
             out.push(("wim.truth.gross_rel", m.truth.gross_rel));
             out.extend(m.truth.axle_rel.iter().map(|&v| ("wim.truth.axle_rel", v)));
         }
+        Record::Preview {
+            measured, truth, ..
+        } => {
+            out.extend(measured.map(|m| ("preview.measured", m)));
+            out.push(("preview.truth", *truth));
+        }
         Record::Event { .. } => {}
     }
     out

@@ -14,7 +14,7 @@ use super::proto::v1::{
 };
 use super::{metadata, ChannelId, McapSink, Topics};
 use crate::error::Result;
-use crate::record::{Layout, RunManifest, SensorChannelInfo, SensorKind};
+use crate::record::{Layout, PreviewInfo, RunManifest, SensorChannelInfo, SensorKind};
 
 /// The channels of one sensor.
 pub(super) struct SensorChannels {
@@ -26,6 +26,8 @@ pub(super) struct SensorChannels {
     pub block: Option<OpenBlock>,
     /// Block layout only: the measured samples waiting to fill the next block.
     pub measured_block: Option<OpenBlock>,
+    /// The preview's (measured, truth) channels, if the run writes a preview.
+    pub preview: Option<(ChannelId, ChannelId)>,
 }
 
 impl SensorChannels {
@@ -120,12 +122,7 @@ fn write_metadata<W: Write + Seek>(sink: &mut McapSink<W>, manifest: &RunManifes
         "bridgetwin",
         BTreeMap::from([
             ("version".to_string(), env!("CARGO_PKG_VERSION").to_string()),
-            (
-                "git_revision".to_string(),
-                option_env!("BRIDGETWIN_GIT_REVISION")
-                    .unwrap_or("unknown")
-                    .to_string(),
-            ),
+            ("git_revision".to_string(), run.git_revision.clone()),
             ("seed".to_string(), run.seed.to_string()),
             ("start_time".to_string(), run.start_time.clone()),
         ]),
@@ -251,6 +248,10 @@ fn sensor_channels<W: Write + Seek>(
         Layout::Sample => sink.add_channel::<SensorTruth>(&truth_topic, meta)?,
         Layout::Block => sink.add_channel::<SensorTruthBlock>(&truth_topic, meta)?,
     };
+    let preview = match &sensor.preview {
+        Some(p) => Some(preview_channels(sink, sensor, p)?),
+        None => None,
+    };
     let blocked = layout == Layout::Block;
     let block = |stream| OpenBlock::new(stream, sensor.rate, manifest.block_samples);
     Ok(SensorChannels {
@@ -260,5 +261,53 @@ fn sensor_channels<W: Write + Seek>(
         truth,
         block: blocked.then(|| block(Stream::Truth)),
         measured_block: blocked.then(|| block(Stream::Measured)),
+        preview,
     })
+}
+
+/// Registers a sensor's preview channels: the measured and the true stream decimated,
+/// each in the sensor's per-sample message type.
+fn preview_channels<W: Write + Seek>(
+    sink: &mut McapSink<W>,
+    sensor: &SensorChannelInfo,
+    preview: &PreviewInfo,
+) -> Result<(ChannelId, ChannelId)> {
+    let rate = format!("{}", preview.rate_hz);
+    let factor = format!("{}", preview.factor);
+    let position = format!("{}", sensor.position_m);
+    let mut meta = metadata([
+        ("unit", sensor.kind.unit()),
+        ("sample_rate_hz", rate.as_str()),
+        ("decimation_factor", factor.as_str()),
+        ("position_m", position.as_str()),
+        ("sensor_model", sensor.model.as_str()),
+        (
+            "content",
+            "preview for viewers: the measured stream decimated with an anti-alias filter \
+             (pass band to 0.4 x sample_rate_hz, 60 dB from 0.5 x); analyses read the \
+             full-rate topic",
+        ),
+        ("sign", "downward positive (strain: tension positive)"),
+    ]);
+    let segment = match sensor.kind {
+        SensorKind::Accelerometer => "accel",
+        SensorKind::Strain => "strain",
+        SensorKind::Displacement => "disp",
+    };
+    let measured_topic = Topics::preview(segment, &sensor.id)?;
+    let truth_topic = Topics::preview_truth(&sensor.id)?;
+    let add = |sink: &mut McapSink<W>, topic: &str, meta| match sensor.kind {
+        SensorKind::Accelerometer => sink.add_channel::<AccelerationSample>(topic, meta),
+        SensorKind::Strain => sink.add_channel::<StrainSample>(topic, meta),
+        SensorKind::Displacement => sink.add_channel::<DisplacementSample>(topic, meta),
+    };
+    let measured = add(sink, &measured_topic, meta.clone())?;
+    meta.insert(
+        "content".into(),
+        "preview for viewers: the truth of the measured quantity, decimated as the measured \
+         preview (true time)"
+            .into(),
+    );
+    let truth = add(sink, &truth_topic, meta)?;
+    Ok((measured, truth))
 }

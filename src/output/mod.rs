@@ -23,6 +23,7 @@ mod writer;
 
 use std::collections::BTreeMap;
 
+pub use parts::{existing_parts, part_path};
 pub use recorder::McapRecorder;
 pub use schema::{self_contained_descriptor_set, ALL_DESCRIPTORS};
 pub use topics::{validate_segment, validate_topic, Topics};

@@ -16,7 +16,7 @@ use super::proto::v1::{
     AccelerationSample, BridgeState, DisplacementSample, SampleBlock, SensorTruth,
     SensorTruthBlock, StrainSample,
 };
-use super::{timestamp_from_ns, McapSink};
+use super::{timestamp_from_ns, ChannelId, McapSink};
 use crate::error::{Error, Result};
 use crate::record::{Layout, Quantities, Record, Recorder, RunManifest, SensorKind};
 
@@ -201,34 +201,9 @@ impl<'a, W: Write + Seek> McapRecorder<'a, W> {
             run.start_time_ns.saturating_add_signed(stamp_ns),
         ));
         if let Some(value) = measured {
-            let timestamp = node_stamp;
             self.messages += 1;
-            match ch.kind {
-                SensorKind::Accelerometer => self.sink.write(
-                    ch.measured,
-                    time,
-                    &AccelerationSample {
-                        timestamp,
-                        acceleration_m_s2: value,
-                    },
-                )?,
-                SensorKind::Strain => self.sink.write(
-                    ch.measured,
-                    time,
-                    &StrainSample {
-                        timestamp,
-                        strain_microstrain: value,
-                    },
-                )?,
-                SensorKind::Displacement => self.sink.write(
-                    ch.measured,
-                    time,
-                    &DisplacementSample {
-                        timestamp,
-                        displacement_m: value,
-                    },
-                )?,
-            }
+            let stamp = run.start_time_ns.saturating_add_signed(stamp_ns);
+            write_sample(self.sink, ch.measured, ch.kind, time, stamp, value)?;
         }
         self.messages += 1;
         let msg = SensorTruth {
@@ -246,6 +221,32 @@ impl<'a, W: Write + Seek> McapRecorder<'a, W> {
             measured_lost: measured.is_none(),
         };
         self.sink.write(ch.truth, time, &msg)
+    }
+
+    /// One preview sample: the measured value (stamped by the node's clock; none when the
+    /// centre sample was lost) and the truth (true time), each in the sensor's per-sample
+    /// message type. Counted here: `write_record` counts no sensor-like record.
+    fn write_preview(
+        &mut self,
+        sensor: usize,
+        time: u64,
+        stamp_ns: i64,
+        measured: Option<f64>,
+        truth: f64,
+    ) -> Result<()> {
+        let run = self.run.as_ref().ok_or_else(not_begun)?;
+        let ch = &run.channels.sensors[sensor];
+        let Some((measured_channel, truth_channel)) = ch.preview else {
+            return Ok(());
+        };
+        let kind = ch.kind;
+        let node_stamp = run.start_time_ns.saturating_add_signed(stamp_ns);
+        if let Some(value) = measured {
+            self.messages += 1;
+            write_sample(self.sink, measured_channel, kind, time, node_stamp, value)?;
+        }
+        self.messages += 1;
+        write_sample(self.sink, truth_channel, kind, time, time, truth)
     }
 
     /// A fault label: on `/truth/faults`, and on `/events` unless it is a single randomly
@@ -280,7 +281,7 @@ impl<'a, W: Write + Seek> McapRecorder<'a, W> {
         let start_time_ns = run.start_time_ns;
         let time = start_time_ns + record.t_ns();
         let ts = Some(timestamp_from_ns(time));
-        if !matches!(record, Record::Sensor { .. }) {
+        if !matches!(record, Record::Sensor { .. } | Record::Preview { .. }) {
             self.messages += 1;
         }
         let ch = &run.channels;
@@ -292,6 +293,13 @@ impl<'a, W: Write + Seek> McapRecorder<'a, W> {
                 truth,
                 ..
             } => self.write_sensor_sample(sensor, time, stamp_ns, measured, &truth),
+            Record::Preview {
+                sensor,
+                stamp_ns,
+                measured,
+                truth,
+                ..
+            } => self.write_preview(sensor, time, stamp_ns, measured, truth),
             Record::Fault {
                 sensor,
                 kind,
@@ -361,6 +369,45 @@ impl<'a, W: Write + Seek> McapRecorder<'a, W> {
             self.next_flush_ns = (t_ns / interval + 1).saturating_mul(interval);
         }
         Ok(())
+    }
+}
+
+/// Writes one value in the per-sample message type of a sensor of `kind`, at log time
+/// `time`, stamped `stamp` (both Unix-epoch ns).
+fn write_sample<W: Write + Seek>(
+    sink: &mut McapSink<W>,
+    channel: ChannelId,
+    kind: SensorKind,
+    time: u64,
+    stamp: u64,
+    value: f64,
+) -> Result<()> {
+    let timestamp = Some(timestamp_from_ns(stamp));
+    match kind {
+        SensorKind::Accelerometer => sink.write(
+            channel,
+            time,
+            &AccelerationSample {
+                timestamp,
+                acceleration_m_s2: value,
+            },
+        ),
+        SensorKind::Strain => sink.write(
+            channel,
+            time,
+            &StrainSample {
+                timestamp,
+                strain_microstrain: value,
+            },
+        ),
+        SensorKind::Displacement => sink.write(
+            channel,
+            time,
+            &DisplacementSample {
+                timestamp,
+                displacement_m: value,
+            },
+        ),
     }
 }
 

@@ -43,6 +43,17 @@ impl Topics {
         Self::with_segment("/truth/sensors/", "sensor id", id)
     }
 
+    /// `/preview/<kind>/<id>` (`kind` = accel, strain, disp): the measured stream
+    /// decimated for viewers, one sample per message.
+    pub fn preview(kind_segment: &str, id: &str) -> Result<String> {
+        Self::with_segment(&format!("/preview/{kind_segment}/"), "sensor id", id)
+    }
+
+    /// `/preview/truth/<id>`: the truth of the measured quantity, decimated alike.
+    pub fn preview_truth(id: &str) -> Result<String> {
+        Self::with_segment("/preview/truth/", "sensor id", id)
+    }
+
     /// `/wim/<station>`: records of one weigh-in-motion station.
     pub fn wim(station: &str) -> Result<String> {
         Self::with_segment("/wim/", "WIM station id", station)

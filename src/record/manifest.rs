@@ -32,6 +32,8 @@ pub struct RunInfo {
     pub scenario_toml: String,
     /// The scenario as the user wrote it (empty for a scenario built in code).
     pub source_toml: String,
+    /// The source revision of the software that wrote the run.
+    pub git_revision: String,
 }
 
 /// The bridge model the run starts with.
@@ -101,6 +103,17 @@ pub struct SensorChannelInfo {
     pub gauge_depth_m: Option<f64>,
     /// Whether the sensor has faults configured.
     pub has_faults: bool,
+    /// The preview channels of the sensor, if the run writes them.
+    pub preview: Option<PreviewInfo>,
+}
+
+/// A sensor's preview: its streams decimated by a whole factor for viewers.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PreviewInfo {
+    /// Sensor samples per preview sample.
+    pub factor: u64,
+    /// The preview's nominal rate, the sensor's over `factor` (Hz).
+    pub rate_hz: f64,
 }
 
 /// One weigh-in-motion station.
@@ -146,6 +159,7 @@ impl RunManifest {
                 start_time_ns: 1_767_225_600_000_000_000,
                 scenario_toml: String::new(),
                 source_toml: String::new(),
+                git_revision: String::new(),
             },
             bridge: BridgeSummary {
                 model: "finite_element n=2".into(),

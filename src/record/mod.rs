@@ -14,8 +14,8 @@ mod records;
 mod wim;
 
 pub use manifest::{
-    BridgeSummary, ChainParameter, DaqClockInfo, Layout, RoadSummary, RunInfo, RunManifest,
-    SensorChannelInfo, StreamRates, WimStationInfo,
+    BridgeSummary, ChainParameter, DaqClockInfo, Layout, PreviewInfo, RoadSummary, RunInfo,
+    RunManifest, SensorChannelInfo, StreamRates, WimStationInfo,
 };
 pub use quantities::{Quantities, SensorKind};
 pub use records::{

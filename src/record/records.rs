@@ -74,6 +74,16 @@ pub enum Record {
         measured: Option<f64>,
         truth: Quantities,
     },
+    /// One sample of a sensor's preview: its measured and true stream decimated with
+    /// the anti-alias filter (see the manifest's `preview`), for viewers. Stamped like
+    /// the sensor's own samples; `measured` is `None` where the centre sample was lost.
+    Preview {
+        sensor: usize,
+        t_ns: u64,
+        stamp_ns: i64,
+        measured: Option<f64>,
+        truth: f64,
+    },
     /// A labelled fault interval of one sensor's measured stream, written at its start;
     /// `end_ns` (exclusive) is `None` for a fault lasting to the end of the run.
     Fault {
@@ -115,6 +125,7 @@ impl Record {
     pub fn t_ns(&self) -> u64 {
         match self {
             Record::Sensor { t_ns, .. }
+            | Record::Preview { t_ns, .. }
             | Record::Fault { t_ns, .. }
             | Record::AxleLoads { t_ns, .. }
             | Record::BridgeShape { t_ns, .. }

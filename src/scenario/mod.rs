@@ -354,7 +354,22 @@ pub struct OutputSection {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schemars(range(min = 0.001, max = resolve::MAX_DURATION_S))]
     pub flush_every_s: Option<f64>,
+    /// Rate of the per-sample preview channels (`/preview/...`, Hz; 0: none): each sensor's
+    /// measured and true stream decimated by a whole factor with the anti-alias filter,
+    /// one sample per message, so that a viewer's plot panel draws every run as time
+    /// series (it cannot draw the samples inside a block message against time). The
+    /// factor is the sensor rate over this, rounded (at least 1); the actual rate is in
+    /// the channel metadata. Default: 25 with the block layout, none with the sample
+    /// layout (its messages already are per sample). At most 1e6.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(range(min = 0, max = 1e6))]
+    pub preview_rate_hz: Option<f64>,
 }
+
+/// Default of `output.preview_rate_hz` in the block layout: the pass band reaches 10 Hz
+/// (the first modes of road bridges, 1-10 Hz) at about a tenth of a 100-200 Hz
+/// channel's messages.
+pub const DEFAULT_PREVIEW_RATE_HZ: f64 = 25.0;
 
 /// Default of `output.flush_every_s`: a killed run loses at most the last simulated
 /// minute (or the last 1 MiB chunk, whichever is less), and one chunk boundary a minute
@@ -383,6 +398,7 @@ impl Default for OutputSection {
             bridge_state_rate_hz: default_bridge_rate(),
             split_every_s: None,
             flush_every_s: None,
+            preview_rate_hz: None,
         }
     }
 }

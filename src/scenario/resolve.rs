@@ -234,6 +234,7 @@ impl Scenario {
             bridge_stride,
             flush_every_ns: (flush_every_s * 1e9).round() as u64,
             source_toml: String::new(),
+            git_revision: crate::base::build_info::run_revision(),
         })
     }
 

@@ -6,7 +6,10 @@ use std::collections::BTreeSet;
 use rand_chacha::ChaCha8Rng;
 
 use super::resolved::ResolvedSensor;
-use super::{default_noise_density, unique_segment, Scenario, SensorKind, SensorSpec};
+use super::{
+    default_noise_density, unique_segment, Layout, Scenario, SensorKind, SensorSpec,
+    DEFAULT_PREVIEW_RATE_HZ,
+};
 use crate::base::random::child_rng;
 use crate::error::{num, require_non_negative, require_positive, Error, Result};
 use crate::measurement::daq::{ClockError, NodeClock};
@@ -29,6 +32,7 @@ impl Scenario {
     pub(super) fn resolve_sensors(&self, dt_ns: u64) -> Result<Vec<ResolvedSensor>> {
         let mut ids = BTreeSet::new();
         let solver_rate_hz = 1e9 / dt_ns as f64;
+        let preview_rate_hz = self.preview_rate_hz()?;
         let mut out = Vec::new();
         for (i, s) in self.sensors.iter().enumerate() {
             let path = format!("sensors.{i}");
@@ -102,7 +106,11 @@ impl Scenario {
                 Some(index) => Some(self.node_clock(index, s.rate_hz)?),
                 None => None,
             };
+            // Whole sensor samples per preview sample: a preview at or above the sensor's
+            // rate is the stream itself.
+            let preview_factor = preview_rate_hz.map(|p| (s.rate_hz / p).round().max(1.0) as u64);
             out.push(ResolvedSensor {
+                preview_factor,
                 rate: design.rate(),
                 spec: s.clone(),
                 noise_density,
@@ -114,6 +122,24 @@ impl Scenario {
             });
         }
         Ok(out)
+    }
+
+    /// The preview rate in force (`output.preview_rate_hz`, its default for the layout),
+    /// `None` for no preview.
+    fn preview_rate_hz(&self) -> Result<Option<f64>> {
+        let rate = match (self.output.preview_rate_hz, self.output.layout) {
+            (Some(rate), _) => rate,
+            (None, Layout::Block) => DEFAULT_PREVIEW_RATE_HZ,
+            (None, Layout::Sample) => 0.0,
+        };
+        if !(rate.is_finite() && (0.0..=1e6).contains(&rate)) {
+            return Err(Error::invalid(
+                "output.preview_rate_hz",
+                num(rate),
+                "must be a finite rate in [0, 1e6] Hz (0: no preview)",
+            ));
+        }
+        Ok((rate > 0.0).then_some(rate))
     }
 
     /// Node ids unique, clocks valid: each node's clock error (its resynchronisations).

@@ -4,8 +4,8 @@
 use crate::error::Result;
 use crate::measurement::wim::WimModelSpec;
 use crate::record::{
-    BridgeSummary, DaqClockInfo, RoadSummary, RunInfo, RunManifest, SensorChannelInfo, StreamRates,
-    WimStationInfo,
+    BridgeSummary, DaqClockInfo, PreviewInfo, RoadSummary, RunInfo, RunManifest, SensorChannelInfo,
+    StreamRates, WimStationInfo,
 };
 use crate::scenario::{Resolved, ResolvedSensor, SensorKind};
 
@@ -28,6 +28,7 @@ pub fn manifest(resolved: &Resolved, prepared: &Prepared) -> Result<RunManifest>
             start_time_ns: resolved.start_time_ns,
             scenario_toml: s.to_toml(),
             source_toml: resolved.source_toml.clone(),
+            git_revision: resolved.git_revision.clone(),
         },
         bridge: BridgeSummary {
             model: s.bridge.model.label(),
@@ -100,6 +101,10 @@ fn sensor_info(resolved: &Resolved, sensor: &ResolvedSensor) -> SensorChannelInf
         clock,
         gauge_depth_m: (spec.kind == SensorKind::Strain).then_some(sensor.gauge_depth_m),
         has_faults: spec.faults.as_ref().is_some_and(|f| !f.is_empty()),
+        preview: sensor.preview_factor.map(|factor| PreviewInfo {
+            factor,
+            rate_hz: spec.rate_hz / factor as f64,
+        }),
     }
 }
 

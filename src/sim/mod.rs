@@ -7,6 +7,7 @@
 mod condition;
 mod daq;
 mod manifest;
+mod preview;
 mod tap;
 mod tracking;
 mod traffic;
@@ -229,7 +230,11 @@ pub fn run_controlled(
                 sensor.spec.kind,
                 daq::fault_injector(resolved, sensor, i)?,
             )
-            .with_clip_counter(clipped),
+            .with_clip_counter(clipped)
+            .with_preview(match sensor.preview_factor {
+                Some(factor) => Some(preview::Preview::new(i, factor)?),
+                None => None,
+            }),
         );
     }
     let max_latency_ns = taps.iter().map(|t| t.latency_ns()).max().unwrap_or(0) + resolved.dt_ns;

@@ -11,6 +11,7 @@
 
 use std::collections::VecDeque;
 
+use super::preview::Preview;
 use crate::measurement::daq::{FaultInjector, FaultKind, FaultLabel, OPEN_END_NS};
 use crate::measurement::sensor::chain::ClipCounter;
 use crate::measurement::sensor::{hermite, SensorChannel, HERMITE_LOOKAHEAD, HERMITE_LOOKBACK};
@@ -104,6 +105,10 @@ pub struct SensorTap {
     random_losses: u64,
     /// The ADC stage's count of clipped samples, if the chain has an ADC.
     clipped: Option<ClipCounter>,
+    /// The decimated preview of both streams, if the run writes one.
+    preview: Option<Preview>,
+    /// Nominal sample period (ns), for the preview's latency.
+    period_ns: u64,
 }
 
 impl SensorTap {
@@ -117,6 +122,7 @@ impl SensorTap {
         faults: Option<FaultInjector>,
     ) -> Self {
         let (_, width) = channel.window_geometry();
+        let period_ns = channel.output_instant_ns(1);
         SensorTap {
             sensor,
             channel,
@@ -129,7 +135,15 @@ impl SensorTap {
             emitted: 0,
             random_losses: 0,
             clipped: None,
+            preview: None,
+            period_ns,
         }
+    }
+
+    /// The same tap writing a preview of both streams decimated by `factor`.
+    pub(super) fn with_preview(mut self, preview: Option<Preview>) -> Self {
+        self.preview = preview;
+        self
     }
 
     /// The same tap reporting the chain's clipped samples at the end of the run.
@@ -169,9 +183,12 @@ impl SensorTap {
         self.hand_over(|channel, emit| channel.push(measured, emit));
     }
 
-    /// Flushes the filter at the end of the run.
+    /// Flushes the filters at the end of the run.
     pub fn flush(&mut self) {
         self.hand_over(|channel, emit| channel.flush(emit));
+        if let Some(preview) = self.preview.as_mut() {
+            preview.flush();
+        }
     }
 
     /// Queues the samples `drive` makes the channel emit, with their truth from the
@@ -190,10 +207,25 @@ impl SensorTap {
             ready,
             ..
         } = self;
+        let first = ready.len();
         let count = drive(channel, &mut |s| {
             ready.push_back(sample_record(*sensor, history, s))
         });
         self.apply_faults(count);
+        if let Some(preview) = self.preview.as_mut() {
+            for record in self.ready.range(first..) {
+                if let Record::Sensor {
+                    t_ns,
+                    stamp_ns,
+                    measured,
+                    truth,
+                    ..
+                } = record
+                {
+                    preview.push(*t_ns, *stamp_ns, *measured, truth.measured_by(self.kind));
+                }
+            }
+        }
     }
 
     /// Passes the last `count` queued samples through the faults (a lost sample keeps its
@@ -226,17 +258,32 @@ impl SensorTap {
 
     /// The time of the next record, if any.
     pub fn next_time_ns(&self) -> Option<u64> {
-        self.ready.front().map(Record::t_ns)
+        let sample = self.ready.front().map(Record::t_ns);
+        let preview = self.preview.as_ref().and_then(Preview::next_time_ns);
+        match (sample, preview) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
+        }
     }
 
-    /// Removes the next record (a sample or a fault label).
+    /// Removes the next record (a sample, a fault label or a preview sample; the
+    /// preview's first on a tie: it is centred on a sample already written).
     pub fn pop(&mut self) -> Option<Record> {
-        self.ready.pop_front()
+        let sample = self.ready.front().map(Record::t_ns);
+        let preview = self.preview.as_ref().and_then(Preview::next_time_ns);
+        match (sample, preview) {
+            (Some(a), Some(b)) if b <= a => self.preview.as_mut().and_then(Preview::pop),
+            (None, Some(_)) => self.preview.as_mut().and_then(Preview::pop),
+            _ => self.ready.pop_front(),
+        }
     }
 
-    /// Worst-case delay between an instant and the emission of its sample (ns).
+    /// Worst-case delay between an instant and the emission of its record (ns): the
+    /// channel's filter, then the preview's, over (half-width + 1) sample periods with
+    /// 1 % to spare for a drifting node clock.
     pub fn latency_ns(&self) -> u64 {
-        self.channel.latency_ns()
+        let preview_samples = self.preview.as_ref().map_or(0, |p| p.latency_samples() + 1);
+        self.channel.latency_ns() + preview_samples * self.period_ns * 101 / 100
     }
 
     /// The channel (rate, taps, noise).

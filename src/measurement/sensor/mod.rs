@@ -38,6 +38,7 @@
 
 pub mod chain;
 mod channel;
+mod decimate;
 mod kaiser;
 mod noise;
 mod resample;
@@ -45,6 +46,7 @@ mod schedule;
 mod truth;
 
 pub use channel::{ChannelDesign, ChannelSample, ChannelSpec, SensorChannel};
+pub use decimate::Decimator;
 pub use noise::{WhiteNoise, WhiteNoiseSource};
 pub use resample::{AntiAliasOptions, Resampler};
 pub use schedule::InstantSource;

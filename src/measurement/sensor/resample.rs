@@ -48,6 +48,19 @@ pub struct AntiAliasOptions {
 }
 
 impl AntiAliasOptions {
+    /// The Kaiser design of these band edges for an output at `ratio` times the input
+    /// rate (edges scale with the output rate), with `phases` table phases.
+    pub(crate) fn kaiser_design(&self, ratio: f64, phases: Option<usize>) -> KaiserDesign {
+        let pass = self.passband_edge_fraction;
+        let stop = self.stopband_edge_fraction;
+        KaiserDesign {
+            cutoff: 0.5 * (pass + stop) * ratio,
+            transition: (stop - pass) * ratio,
+            attenuation_db: self.stopband_attenuation_db,
+            phases,
+        }
+    }
+
     /// The filter's gain at `f_hz` for output rate `rate_hz`, approximated: 1 in the pass
     /// band (ripple ~1e-4), 0 from the stop-band edge (80 dB down), a raised cosine
     /// between (the shape of the Kaiser design's transition). Used for signals picked up
@@ -171,14 +184,7 @@ impl Rates {
             return Ok(None);
         }
         let ratio = self.out.hz() * self.dt_ns as f64 / NS_PER_S as f64;
-        let pass = options.passband_edge_fraction;
-        let stop = options.stopband_edge_fraction;
-        let design = KaiserDesign {
-            cutoff: 0.5 * (pass + stop) * ratio,
-            transition: (stop - pass) * ratio,
-            attenuation_db: options.stopband_attenuation_db,
-            phases: options.table_phases,
-        };
+        let design = options.kaiser_design(ratio, options.table_phases);
         let (half_width, phases) = PolyphaseKernel::planned_size(&design);
         let taps = 2 * half_width + 1;
         if taps > MAX_TAPS {

@@ -30,10 +30,6 @@ pub const SCHEMA_PATH: &str = "docs/scenario.schema.json";
 /// Where the Markdown reference is committed.
 pub const REFERENCE_PATH: &str = "docs/scenario.md";
 
-/// The schema's `$id`: a name, not a location (the file is found by the `#:schema`
-/// directive or the editor's settings); the format's version is `version`.
-pub const SCHEMA_ID: &str = "urn:bridgetwin:scenario";
-
 /// The scenario format as a draft-07 JSON Schema.
 pub fn json_schema() -> Value {
     let generator = schemars::generate::SchemaSettings::draft07().into_generator();
@@ -54,7 +50,7 @@ pub fn reference_text() -> String {
     markdown(&json_schema())
 }
 
-/// The root with `$schema`, `$id`, `title`, `version` and `description` first.
+/// The root with `$schema`, `title`, `version` and `description` first.
 fn with_header(schema: Value) -> Value {
     let Value::Object(mut body) = schema else {
         return schema;
@@ -63,7 +59,6 @@ fn with_header(schema: Value) -> Value {
     if let Some(meta) = body.remove("$schema") {
         root.insert("$schema".into(), meta);
     }
-    root.insert("$id".into(), SCHEMA_ID.into());
     root.insert("title".into(), "bridgetwin scenario".into());
     root.insert("version".into(), env!("CARGO_PKG_VERSION").into());
     body.remove("title");
@@ -245,7 +240,7 @@ mod tests {
                     if let Some(Value::Object(properties)) = map.get("properties") {
                         for (key, p) in properties {
                             let text = p.get("description").and_then(Value::as_str);
-                            let rust = |t: &str| t.contains("[`") || t.contains("crate::");
+                            let rust = |t: &str| t.contains("[`") || t.contains("::");
                             if key != "kind" && text.is_none_or(rust) {
                                 missing.push(format!("{path}.{key}"));
                             }
@@ -278,10 +273,12 @@ mod tests {
     fn the_root_names_the_schema_and_its_version() {
         let schema = json_schema();
         assert_eq!(schema["$schema"], "http://json-schema.org/draft-07/schema#");
-        assert_eq!(schema["$id"], SCHEMA_ID);
+        // No `$id`: editors then resolve the `#/definitions/...` references against the
+        // file they loaded, the one thing every validator agrees on.
+        assert!(schema.get("$id").is_none());
         assert_eq!(schema["version"], env!("CARGO_PKG_VERSION"));
         assert_eq!(schema["additionalProperties"], false);
         let keys: Vec<&String> = schema.as_object().unwrap().keys().take(3).collect();
-        assert_eq!(keys, ["$schema", "$id", "title"]);
+        assert_eq!(keys, ["$schema", "title", "version"]);
     }
 }

@@ -63,8 +63,8 @@ impl TransducerKind {
     }
 }
 
-/// A sensor type with datasheet-class chain parameters (the table is in docs/sensors.md;
-/// in code, `SensorPreset::parameters`).
+/// A sensor type with datasheet-class chain parameters (the table is in docs/sensors.md
+/// section 1.1).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum SensorPreset {
