@@ -10,6 +10,9 @@
 //! - the block-layout examples (ambient_monitoring, day_of_traffic, hour_of_traffic,
 //!   two_trucks): they now carry the `/preview/...` channels (25 Hz); every other message
 //!   is unchanged.
+//! - every run: the 3D scene on `/scene` (on by default at 10 Hz) and a first `/events`
+//!   line saying what the run holds; every other message is unchanged (chunk boundaries
+//!   move with the added bytes).
 
 use std::path::Path;
 use std::process::Command;
@@ -22,57 +25,57 @@ const PINNED: &[(&str, f64, &str)] = &[
     (
         "",
         0.0,
-        "7f01666e56c4373b03858b051dd577a13ab9aa264c372be1ac894393b16b91a0",
+        "5ad9e87507d81682eedcc01867f9e929933f252250e75abab10a9333b6506944",
     ),
     (
         "ambient_monitoring",
         20.0,
-        "c1985da4e39c8917c4dc82d9fc660904ce7dff93f68b254455053b722b1d487d",
+        "7d3970d0106079293a4550217840c10ef5de9c4eab137c87c25a37fb6d29a108",
     ),
     (
         "ambient_monitoring",
         120.0,
-        "c2a9656b78e3713221482765841bcc3c407c0557037d2b685ccc83a5bdb97993",
+        "5682fe2e463baf675238bfc155cc6db8b7581e664e78420deba019573be3e101",
     ),
     (
         "damage_onset",
         20.0,
-        "555ec783a923c11daab7f1d1e3fe8bcfb2d7ce4dd4b12853f971853697cdb8b9",
+        "f3fa722f5aaa698dd15f98f38ce46c5874c6562a6c804e35bc2bedddb325cf98",
     ),
     (
         "day_of_traffic",
         20.0,
-        "93272b0d30ce4d1d8eb9098abc354d282abbebbb1df2f1855b440b8d678fb53b",
+        "8a3ab203495009c1089eee87aa35ad44f9ab987a7f934e1b668d7727500c51a8",
     ),
     (
         "hour_of_traffic",
         20.0,
-        "803842bcc377c9af0c7bc74edbdfeb9a9acdfc97867177ab39f17d6182a96a7d",
+        "22576c77dc6ab1955379d538f458065beadddf0f227dc81f9cabc9f78a57b072",
     ),
     (
         "hour_of_traffic",
         60.0,
-        "4cdab44e48e116fa23e4835f342a236511708f7d310fc2b4898a18f3edfcee93",
+        "e4981a860fca2529e10e93bf433f6e4723d0dde36e71daaae69c596b3226e32e",
     ),
     (
         "moving_force",
         20.0,
-        "d204a547e2d177a690dd27c25ad11960b1fa996ccdec4294019ff0e58eddcac4",
+        "d22e6c04224a913eb4a3f681bd55b661b06049288fb8466b8266c1ab36a76d47",
     ),
     (
         "paper_case",
         20.0,
-        "2e8405f4f521d6190aa1a4e91553517912d3a49a7d9e56b72e728014b759247a",
+        "f1ce176f9de97672e0912890a62746181a98b3d55ab1e8650ed8a8d685d19544",
     ),
     (
         "two_trucks",
         20.0,
-        "2314feba85053802e377f30a40eb3aee805ad93ccfeb913be6357be635adca15",
+        "bbfeac6b49a7ee74c3b839e3aa00e466b1374d68eb06158f05ffc8afa9dd0d0d",
     ),
     (
         "two_trucks",
         40.0,
-        "7355ea1a294c038183daa7e0e440780cfabc28d277686d5c10e09a1db73180f8",
+        "da4adaa9e6ff7f6fec3c37d4d1e9fcabcc1b796f874eecdd1af5ff9c1a8adf3a",
     ),
 ];
 

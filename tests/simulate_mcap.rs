@@ -91,6 +91,23 @@ fn decode_file(path: &Path) -> Vec<Decoded> {
 }
 
 fn timestamp_ns(message: &DynamicMessage) -> u64 {
+    if message.descriptor().full_name() == "foxglove.SceneUpdate" {
+        // Foxglove's schema has no timestamp of its own: every entity and deletion has
+        // one, and they must all agree.
+        let mut stamps = Vec::new();
+        for list in ["entities", "deletions"] {
+            let Some(Value::List(items)) = message.get_field_by_name(list).map(|v| v.into_owned())
+            else {
+                panic!("SceneUpdate.{list} is not a list");
+            };
+            for item in items {
+                stamps.push(timestamp_ns(item.as_message().expect("a message")));
+            }
+        }
+        assert!(!stamps.is_empty(), "a scene update with no entity");
+        assert!(stamps.iter().all(|&t| t == stamps[0]), "{stamps:?}");
+        return stamps[0];
+    }
     let Some(Value::Message(ts)) = message
         .get_field_by_name("timestamp")
         .map(|v| v.into_owned())

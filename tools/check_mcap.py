@@ -11,7 +11,8 @@ Checks, per file:
   metadata and attachment counts) equal what was read;
 - log_time is never 0, never decreases through the file, equals publish_time and the
   message's ``timestamp`` field (on the measured topics of sensors on a DAQ node clock,
-  channel metadata ``daq_node``, the timestamp is the node's: within 1 s of log_time);
+  channel metadata ``daq_node``, the timestamp is the node's: within 1 s of log_time; a
+  ``foxglove.SceneUpdate`` has none: each of its entities' and deletions' timestamps);
 - sequence counts 1, 2, 3 ... on every channel (in a later part of a split run, metadata
   ``split`` with ``part`` > 0, it goes on from the previous part: consecutive from where
   each channel starts);
@@ -118,7 +119,19 @@ def check_messages(path: str, problems: Problems, continued: bool) -> tuple[dict
                 f"{topic} sequence",
             )
             last_sequence[channel.id] = message.sequence
-            if "timestamp" not in decoded.DESCRIPTOR.fields_by_name:
+            if schema.name == "foxglove.SceneUpdate":
+                # Foxglove's schema has no timestamp of its own: every entity and deletion
+                # carries one, and each must be the log time.
+                stamps = [e.timestamp for e in decoded.entities] + [d.timestamp for d in decoded.deletions]
+                problems.check(bool(stamps), f"{topic}: a scene update with no entity", f"{topic} empty")
+                for stamp in stamps:
+                    stamp_ns = stamp.seconds * 1_000_000_000 + stamp.nanos
+                    problems.check(
+                        stamp_ns == t_ns,
+                        f"{topic}: entity timestamp {stamp_ns} != log_time {t_ns}",
+                        f"{topic} timestamp",
+                    )
+            elif "timestamp" not in decoded.DESCRIPTOR.fields_by_name:
                 problems.add(f"{topic}: message {schema.name} has no timestamp field")
             else:
                 stamp_ns = decoded.timestamp.seconds * 1_000_000_000 + decoded.timestamp.nanos

@@ -17,6 +17,7 @@ mod channels;
 mod messages;
 mod parts;
 mod recorder;
+mod scene;
 mod schema;
 mod topics;
 mod writer;
@@ -24,6 +25,7 @@ mod writer;
 use std::collections::BTreeMap;
 
 pub use recorder::McapRecorder;
+pub use scene::{LANE_WIDTH_M, SCENE_FRAME};
 pub use schema::{self_contained_descriptor_set, ALL_DESCRIPTORS};
 pub use topics::{validate_segment, validate_topic, Topics};
 pub use writer::{ChannelId, McapSink, SinkOptions};
@@ -34,7 +36,8 @@ pub mod proto {
     pub mod v1 {
         include!(concat!(env!("OUT_DIR"), "/bridgetwin.v1.rs"));
     }
-    /// Package `foxglove` (only `foxglove.Log`, for the Log panel).
+    /// Package `foxglove`: `foxglove.Log` for the Log panel, `foxglove.SceneUpdate` and
+    /// its parts for the 3D panel.
     pub mod foxglove {
         include!(concat!(env!("OUT_DIR"), "/foxglove.rs"));
     }
