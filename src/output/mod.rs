@@ -14,6 +14,7 @@
 
 mod blocks;
 mod channels;
+pub mod layout;
 mod messages;
 mod parts;
 mod recorder;
