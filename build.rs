@@ -13,6 +13,7 @@ const SCHEMA_DIR: &str = "schemas";
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!("cargo:rerun-if-changed={SCHEMA_DIR}");
+    git_revision();
     let mut proto_files = Vec::new();
     collect_protos(Path::new(SCHEMA_DIR), &mut proto_files)?;
     // Sorted so that the descriptor set, hence the MCAP bytes, never depend on readdir order.
@@ -41,6 +42,39 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .btree_map(["."])
         .compile_fds(compiler.file_descriptor_set())?;
     Ok(())
+}
+
+/// Sets `BRIDGETWIN_GIT_REVISION` for the crate: the value given at build time if any
+/// (builds from a source archive), else `git describe --always --dirty --abbrev=12` of the
+/// source tree, else nothing (the crate then says "unknown"). Rebuilt when HEAD moves or
+/// the index changes (a commit, a checkout, `git add`).
+fn git_revision() {
+    println!("cargo:rerun-if-env-changed=BRIDGETWIN_GIT_REVISION");
+    if std::env::var_os("BRIDGETWIN_GIT_REVISION").is_some() {
+        return;
+    }
+    let git = |args: &[&str]| {
+        std::process::Command::new("git")
+            .args(args)
+            .output()
+            .ok()
+            .filter(|out| out.status.success())
+            .and_then(|out| String::from_utf8(out.stdout).ok())
+            .map(|text| text.trim().to_string())
+    };
+    for file in ["HEAD", "index"] {
+        if let Some(path) = git(&["rev-parse", "--git-path", file]) {
+            println!("cargo:rerun-if-changed={path}");
+        }
+    }
+    if let Some(head_ref) = git(&["symbolic-ref", "-q", "HEAD"]) {
+        if let Some(path) = git(&["rev-parse", "--git-path", &head_ref]) {
+            println!("cargo:rerun-if-changed={path}");
+        }
+    }
+    if let Some(revision) = git(&["describe", "--always", "--dirty", "--abbrev=12"]) {
+        println!("cargo:rustc-env=BRIDGETWIN_GIT_REVISION={revision}");
+    }
 }
 
 fn collect_protos(dir: &Path, out: &mut Vec<PathBuf>) -> std::io::Result<()> {

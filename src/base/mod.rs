@@ -2,6 +2,7 @@
 //! crate but its error type: named random streams, signal estimates, physical constants, `kind`-tagged
 //! enums for serde.
 
+pub mod build_info;
 pub mod random;
 pub mod rate;
 pub mod signal;

@@ -21,7 +21,8 @@ use truth::rate_hz;
 /// Arguments of `inspect`.
 #[derive(Debug, clap::Args)]
 pub struct InspectArgs {
-    /// MCAP file written by `bridgetwin simulate` (a `.partial` file works too).
+    /// MCAP file written by `bridgetwin simulate` (a `.partial` file works too). For a
+    /// split run, its base name (`day.mcap` for `day-0000.mcap`, ...) reads the first part.
     pub file: PathBuf,
     /// Print one JSON object instead of a table.
     #[arg(long)]
@@ -30,7 +31,11 @@ pub struct InspectArgs {
 
 /// Runs `inspect`.
 pub fn run(args: &InspectArgs) -> Result<()> {
-    let report = inspect(&args.file)?;
+    let path = super::run_path::RunPath::find(&args.file)?;
+    if let Some(note) = path.note() {
+        eprintln!("{note}");
+    }
+    let report = inspect(path.first())?;
     let text = if args.json {
         serde_json::to_string_pretty(&report)? + "\n"
     } else {

@@ -10,8 +10,9 @@ use crate::output::layout::{layout_for_file, LayoutOptions};
 /// Arguments of `layout`.
 #[derive(Debug, clap::Args)]
 pub struct LayoutArgs {
-    /// MCAP file written by `bridgetwin simulate` (one part of a split run, or a
-    /// `.partial` file).
+    /// MCAP file written by `bridgetwin simulate` (a `.partial` file works too); for a
+    /// split run, one part, or its base name (`day.mcap` for `day-0000.mcap`, ...) for
+    /// the first part.
     pub file: PathBuf,
     /// Write the layout to this file instead of stdout.
     #[arg(long)]
@@ -35,7 +36,11 @@ pub fn run(args: &LayoutArgs) -> Result<()> {
         max_vehicles: args.max_vehicles,
         max_sensors_per_kind: args.sensors_per_kind,
     };
-    let layout = layout_for_file(&args.file, &options)?;
+    let path = super::run_path::RunPath::find(&args.file)?;
+    if let Some(note) = path.note() {
+        eprintln!("{note}");
+    }
+    let layout = layout_for_file(path.first(), &options)?;
     for note in &layout.notes {
         eprintln!("note: {note}");
     }

@@ -5,6 +5,7 @@ mod bench_cmd;
 mod from_mcap;
 mod inspect_cmd;
 mod layout_cmd;
+mod run_path;
 mod simulate_cmd;
 mod sweep_cmd;
 mod terminal;

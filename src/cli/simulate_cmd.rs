@@ -35,7 +35,17 @@ pub struct SimulateArgs {
     /// Print the time split: setup, physics + sensors, writing.
     #[arg(long)]
     pub timings: bool,
+    /// Print nothing but warnings and errors (no progress bar, no summary).
+    #[arg(long, short, conflicts_with = "verbose")]
+    pub quiet: bool,
+    /// Print every axle's dynamic load coefficient and every warning (the default summary
+    /// lists them for small runs only).
+    #[arg(long, short)]
+    pub verbose: bool,
 }
+
+/// Per-axle lines and warnings printed in full up to this many; past it, a summary line.
+const FULL_LIST_MAX: usize = 8;
 
 /// Reads a scenario file (or the default) and applies the command-line overrides.
 pub fn load_scenario(path: Option<&Path>) -> Result<(Scenario, String)> {
@@ -112,7 +122,13 @@ fn sink_options(resolved: &crate::scenario::Resolved, force: bool) -> SinkOption
 pub fn run(args: &SimulateArgs) -> Result<()> {
     let started = Instant::now();
     let (mut scenario, original_toml) = match &args.from {
-        Some(run) => super::from_mcap::scenario_from_mcap(run)?,
+        Some(run) => {
+            let path = super::run_path::RunPath::find(run)?;
+            if let Some(note) = path.note() {
+                eprintln!("{note}");
+            }
+            super::from_mcap::scenario_from_mcap(path.first())?
+        }
         None => load_scenario(args.scenario.as_deref())?,
     };
     if let Some(seed) = args.seed {
@@ -123,11 +139,15 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
     }
     let mut resolved = scenario.resolve()?;
     resolved.source_toml = original_toml;
-    print_warnings(&resolved);
+    print_warnings(&resolved, args.verbose);
+    warn_on_extension(&args.out);
     let prepared = crate::sim::prepare(&resolved)?;
     let mut sink = McapSink::create(&args.out, sink_options(&resolved, args.force))?;
     let stop = super::terminal::stop_on_signals()?;
-    let bar = super::terminal::progress_bar(resolved.steps, "{bar:30} {msg} ({eta} left)");
+    let bar = match args.quiet {
+        true => None,
+        false => super::terminal::progress_bar(resolved.steps, "{bar:30} {msg} ({eta} left)"),
+    };
     let loop_start = std::time::Instant::now();
     let mut progress = |p: &crate::sim::RunProgress| {
         if let Some(b) = &bar {
@@ -177,43 +197,22 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
                 .map(|path| std::fs::metadata(path).map_or(0, |m| m.len()))
                 .sum();
             let wall_s = started.elapsed().as_secs_f64();
-            let files = match split {
-                false => format!("{:.1} MiB", bytes as f64 / 1048576.0),
-                true => format!("{}, {}", count(paths.len(), "file"), size_text(bytes)),
-            };
-            eprintln!(
-                "wrote {} ({files}, {} messages, {:.1} B/message): {:.2} s simulated in {:.2} s ({:.0}x real time)",
-                span(&paths),
-                messages,
-                bytes as f64 / messages.max(1) as f64,
-                summary.duration_s,
-                wall_s,
-                summary.duration_s / wall_s
-            );
-            eprintln!(
-                "f1 = {:.3} Hz; {}",
-                summary
-                    .natural_frequencies_hz
-                    .first()
-                    .copied()
-                    .unwrap_or(f64::NAN),
-                summary.road_description
-            );
-            if summary.model_rebuilds > 0 {
+            if !args.quiet {
+                let files = match split {
+                    false => format!("{:.1} MiB", bytes as f64 / 1048576.0),
+                    true => format!("{}, {}", count(paths.len(), "file"), size_text(bytes)),
+                };
                 eprintln!(
-                    "bridge model rebuilt {} times for temperature and damage; f1 at the end = {:.3} Hz",
-                    summary.model_rebuilds,
-                    summary.final_frequencies_hz.first().copied().unwrap_or(f64::NAN)
+                    "wrote {} ({files}, {} messages, {:.1} B/message): {:.2} s simulated in {:.2} s ({:.0}x real time)",
+                    span(&paths),
+                    messages,
+                    bytes as f64 / messages.max(1) as f64,
+                    summary.duration_s,
+                    wall_s,
+                    summary.duration_s / wall_s
                 );
+                print_summary(&summary, args.verbose);
             }
-            for (id, axle, dlc, sigma) in &summary.dlc {
-                eprintln!("vehicle {id} axle {axle}: on the bridge, at every solver step, max/static = {dlc:.3}, sigma/static = {sigma:.3}");
-            }
-            eprintln!(
-                "peak midspan deflection {:.3} mm; steps with a tyre in tension or lifted off: {}",
-                summary.peak_midspan_deflection_m * 1e3,
-                summary.contact_loss_steps
-            );
             if args.timings {
                 print_timings(wall_s, loop_s, write_s, summary.duration_s);
             }
@@ -232,6 +231,81 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
             }
             Err(e)
         }
+    }
+}
+
+/// The headline results of a run: f1, model rebuilds, dynamic load coefficients (every
+/// axle for small runs or with `verbose`, else the extremes), peak deflection, contact loss.
+fn print_summary(summary: &crate::sim::RunSummary, verbose: bool) {
+    eprintln!(
+        "f1 = {:.3} Hz; {}",
+        summary
+            .natural_frequencies_hz
+            .first()
+            .copied()
+            .unwrap_or(f64::NAN),
+        summary.road_description
+    );
+    if summary.model_rebuilds > 0 {
+        eprintln!(
+            "bridge model rebuilt {} times for temperature and damage; f1 at the end = {:.3} Hz",
+            summary.model_rebuilds,
+            summary
+                .final_frequencies_hz
+                .first()
+                .copied()
+                .unwrap_or(f64::NAN)
+        );
+    }
+    if verbose || summary.dlc.len() <= FULL_LIST_MAX {
+        for (id, axle, dlc, sigma) in &summary.dlc {
+            eprintln!("vehicle {id} axle {axle}: on the bridge, at every solver step, max/static = {dlc:.3}, sigma/static = {sigma:.3}");
+        }
+    } else {
+        eprintln!("{}", dlc_overview(&summary.dlc));
+    }
+    eprintln!(
+        "peak midspan deflection {:.3} mm; steps with a tyre in tension or lifted off: {}",
+        summary.peak_midspan_deflection_m * 1e3,
+        summary.contact_loss_steps
+    );
+}
+
+/// One line over many axles: how many vehicles and axles crossed, the largest max/static
+/// (which axle) and the median, for the per-axle list ask `--verbose`.
+fn dlc_overview(dlc: &[(u32, u32, f64, f64)]) -> String {
+    let mut vehicles: Vec<u32> = dlc.iter().map(|(id, ..)| *id).collect();
+    vehicles.dedup();
+    let mut ratios: Vec<f64> = dlc.iter().map(|d| d.2).filter(|r| r.is_finite()).collect();
+    ratios.sort_by(f64::total_cmp);
+    let Some(worst) = dlc
+        .iter()
+        .filter(|d| d.2.is_finite())
+        .max_by(|a, b| a.2.total_cmp(&b.2))
+    else {
+        return format!("{} axles crossed; no dynamic load coefficient", dlc.len());
+    };
+    format!(
+        "{} vehicles ({} axles) on the bridge: max/static highest {:.3} (vehicle {} axle {}), median {:.3}; --verbose lists every axle",
+        vehicles.len(),
+        dlc.len(),
+        worst.2,
+        worst.0,
+        worst.1,
+        ratios[ratios.len() / 2]
+    )
+}
+
+/// `--out x.csv` still writes MCAP: say so, since the name will mislead every reader.
+fn warn_on_extension(out: &Path) {
+    let is_mcap = out
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("mcap"));
+    if !is_mcap {
+        eprintln!(
+            "warning: --out {} does not end in .mcap; the file is MCAP whatever its name",
+            out.display()
+        );
     }
 }
 
@@ -266,10 +340,22 @@ fn peak_rss_kib() -> Option<u64> {
     line.split_whitespace().nth(1)?.parse().ok()
 }
 
-/// Questionable but legal inputs (coarse time step, vehicles that never arrive...).
-fn print_warnings(resolved: &crate::scenario::Resolved) {
-    for warning in resolved.warnings() {
+/// Questionable but legal inputs (coarse time step, vehicles that never arrive...):
+/// all with `verbose`, else the first few and a count.
+fn print_warnings(resolved: &crate::scenario::Resolved, verbose: bool) {
+    let warnings = resolved.warnings();
+    let shown = match verbose {
+        true => warnings.len(),
+        false => warnings.len().min(FULL_LIST_MAX),
+    };
+    for warning in &warnings[..shown] {
         eprintln!("warning: {warning}");
+    }
+    if shown < warnings.len() {
+        eprintln!(
+            "warning: ... and {} more like these (--verbose prints all)",
+            warnings.len() - shown
+        );
     }
 }
 
@@ -282,7 +368,7 @@ pub fn show() {
 pub fn check(path: &Path) -> Result<()> {
     let (scenario, _) = load_scenario(Some(path))?;
     let resolved = scenario.resolve()?;
-    print_warnings(&resolved);
+    print_warnings(&resolved, true);
     eprintln!(
         "{}: ok ({} vehicles, {} sensors, {:.2} s, {} steps)",
         path.display(),

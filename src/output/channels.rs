@@ -155,12 +155,7 @@ fn write_metadata<W: Write + Seek>(sink: &mut McapSink<W>, manifest: &RunManifes
         "bridgetwin",
         BTreeMap::from([
             ("version".to_string(), env!("CARGO_PKG_VERSION").to_string()),
-            (
-                "git_revision".to_string(),
-                option_env!("BRIDGETWIN_GIT_REVISION")
-                    .unwrap_or("unknown")
-                    .to_string(),
-            ),
+            ("git_revision".to_string(), run.git_revision.clone()),
             ("seed".to_string(), run.seed.to_string()),
             ("start_time".to_string(), run.start_time.clone()),
         ]),

@@ -25,6 +25,7 @@ mod writer;
 
 use std::collections::BTreeMap;
 
+pub use parts::{existing_parts, part_path};
 pub use recorder::McapRecorder;
 pub use scene::{LANE_WIDTH_M, SCENE_FRAME};
 pub use schema::{self_contained_descriptor_set, ALL_DESCRIPTORS};

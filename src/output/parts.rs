@@ -184,7 +184,7 @@ pub(super) enum Replay {
 
 /// `day.mcap` -> `day-0003.mcap`, `day` -> `day-0003`: the part number (4 digits, more
 /// from part 10000 on) before the extension.
-pub(super) fn part_path(out: &Path, part: u64) -> PathBuf {
+pub fn part_path(out: &Path, part: u64) -> PathBuf {
     let mut name = out.file_stem().unwrap_or_default().to_os_string();
     name.push(format!("-{part:04}"));
     if let Some(extension) = out.extension() {
@@ -192,6 +192,28 @@ pub(super) fn part_path(out: &Path, part: u64) -> PathBuf {
         name.push(extension);
     }
     out.with_file_name(name)
+}
+
+/// The parts of a split run written with `--out out`: `out-0000.mcap`, `out-0001.mcap`,
+/// ... as far as they go without a gap, then the `.partial` of the next part if a run was
+/// interrupted there. Empty if `out` was not split.
+pub fn existing_parts(out: &Path) -> Vec<PathBuf> {
+    let mut parts = Vec::new();
+    for part in 0.. {
+        let path = part_path(out, part);
+        if path.is_file() {
+            parts.push(path);
+            continue;
+        }
+        let mut partial = path.into_os_string();
+        partial.push(".partial");
+        let partial = PathBuf::from(partial);
+        if partial.is_file() {
+            parts.push(partial);
+        }
+        break;
+    }
+    parts
 }
 
 /// Refuses to write over `target` unless `force`, and never over a directory, device,

@@ -31,6 +31,8 @@ pub struct RunInfo {
     pub scenario_toml: String,
     /// The scenario as the user wrote it (empty for a scenario built in code).
     pub source_toml: String,
+    /// The source revision of the software that wrote the run.
+    pub git_revision: String,
 }
 
 /// The bridge model the run starts with.
@@ -176,6 +178,7 @@ impl RunManifest {
                 start_time_ns: 1_767_225_600_000_000_000,
                 scenario_toml: String::new(),
                 source_toml: String::new(),
+                git_revision: String::new(),
             },
             bridge: BridgeSummary {
                 model: "finite_element n=2".into(),

@@ -233,6 +233,7 @@ impl Scenario {
             flush_every_ns: (flush_every_s * 1e9).round() as u64,
             scene,
             source_toml: String::new(),
+            git_revision: crate::base::build_info::run_revision(),
         })
     }
 

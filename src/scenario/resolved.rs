@@ -116,6 +116,9 @@ pub struct Resolved {
     /// The scenario as the user wrote it (stored in the output); empty for a scenario
     /// built in code. Set by the caller that read the file.
     pub source_toml: String,
+    /// The source revision written into the output's `bridgetwin` metadata: the build's,
+    /// or the one given at run time (see `base::build_info::REVISION_OVERRIDE_VAR`).
+    pub git_revision: String,
 }
 
 impl Resolved {
@@ -177,6 +180,9 @@ impl Resolved {
                     num(dt_s),
                     1.0 / (MIN_STEPS_PER_SENSOR_PERIOD * band_edge_hz),
                 ));
+            }
+            if let Some(warning) = on_a_support(i, r, s.bridge.span_m) {
+                out.push(warning);
             }
             if band_edge_hz < f1 {
                 out.push(format!(
@@ -241,4 +247,24 @@ impl Resolved {
         }
         out
     }
+}
+
+/// A sensor within this distance of a support reads (nearly) nothing: the deflection,
+/// the acceleration and, on a simply supported span, the bending strain vanish there.
+const ON_SUPPORT_M: f64 = 1e-3;
+
+/// The warning for sensor `i` placed on a support of the simply supported span (at x = 0
+/// or x = span), where every mode shape sin(k pi x / L) and the bending moment are zero.
+fn on_a_support(i: usize, sensor: &ResolvedSensor, span_m: f64) -> Option<String> {
+    let x = sensor.spec.position_m;
+    let support_m = if x < 0.5 * span_m { 0.0 } else { span_m };
+    ((x - support_m).abs() <= ON_SUPPORT_M).then(|| {
+        format!(
+            "sensors.{i}.position_m = {} (id {}): on the support at x = {} m, where the \
+             bridge does not move and bends nothing: the channel will read zero and noise",
+            num(x),
+            sensor.spec.id,
+            num(support_m),
+        )
+    })
 }

@@ -28,6 +28,7 @@ pub fn manifest(resolved: &Resolved, prepared: &Prepared) -> Result<RunManifest>
             start_time_ns: resolved.start_time_ns,
             scenario_toml: s.to_toml(),
             source_toml: resolved.source_toml.clone(),
+            git_revision: resolved.git_revision.clone(),
         },
         bridge: BridgeSummary {
             model: s.bridge.model.label(),
