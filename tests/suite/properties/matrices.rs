@@ -71,10 +71,11 @@ fn check_model(model: &BridgeModel) -> Result<f64, TestCaseError> {
 }
 
 /// The leading term of the f1 error of `elements` Hermite elements with consistent mass,
-/// `(pi / elements)^4 / 720` (the Rayleigh quotient of the cubic interpolant), plus 1e-10
-/// for round-off.
+/// `(pi / elements)^4 / 720` (the Rayleigh quotient of the cubic interpolant), plus 1e-9
+/// for the round-off of the eigen-solution (-2.8e-10 measured on a 68-element mesh,
+/// whose error itself is below it; the regression file keeps that case).
 fn fe_f1_bound(elements: usize) -> f64 {
-    (std::f64::consts::PI / elements as f64).powi(4) / 720.0 + 1e-10
+    (std::f64::consts::PI / elements as f64).powi(4) / 720.0 + 1e-9
 }
 
 fn uniform_beam(span: f64, mass: f64, f1: f64) -> BeamProperties {
@@ -136,7 +137,7 @@ proptest! {
             let err = f1_model / beam.closed_form_frequency_hz(1) - 1.0;
             let bound = fe_f1_bound(elements);
             prop_assert!(
-                (-1e-10..=bound).contains(&err),
+                (-1e-9..=bound).contains(&err),
                 "FE n={elements}: f1 error {err:e} outside [0, {bound:e}]"
             );
         }
@@ -163,7 +164,7 @@ proptest! {
         let err = f1_model / beam.closed_form_frequency_hz(1) - 1.0;
         let bound = fe_f1_bound(mesh);
         prop_assert!(
-            (-1e-10..=bound).contains(&err),
+            (-1e-9..=bound).contains(&err),
             "modal m={modes} elements={elements:?}: f1 error {err:e} outside [0, {bound:e}]"
         );
     }
