@@ -72,7 +72,7 @@ struct Files {
     other: PathBuf,
     /// `good` with 64 bytes in the middle inverted.
     corrupt: PathBuf,
-    /// The first half of `good` (no summary, no footer).
+    /// The first half of `good` (no summary, no footer, inside its only chunk).
     cut: PathBuf,
     /// The first 200 bytes: what a run killed before its first flush leaves.
     empty_partial: PathBuf,
@@ -158,9 +158,10 @@ fn read_run_reads_a_good_file_and_says_when_a_file_is_damaged_or_empty() {
     let topic = Path::new("/sensors/accel/A4");
     expect_exit(&py, "read_run.py", &[&f.good], 0);
     expect_exit(&py, "read_run.py", &[&f.good, topic], 0);
-    // Damaged, the intact part read: 3. Nothing read, or nothing measured: 1.
-    expect_exit(&py, "read_run.py", &[&f.cut, topic], 3);
-    expect_exit(&py, "read_run.py", &[&f.cut], 3);
+    // Nothing read, or nothing measured: 1 (a 3 s run is one chunk, so its first half
+    // holds no intact message). Damaged with an intact part: 3, or 1 (flipped bytes).
+    expect_exit(&py, "read_run.py", &[&f.cut, topic], 1);
+    expect_exit(&py, "read_run.py", &[&f.cut], 1);
     expect_exit(&py, "read_run.py", &[&f.empty_partial], 1);
     expect_exit(&py, "read_run.py", &[&f.empty_partial, topic], 1);
     expect_exit(&py, "read_run.py", &[&f.no_sensors], 1);
@@ -217,7 +218,12 @@ fn oma_check_picks_its_poles_without_the_truth() {
         .nth(1)
         .and_then(|rest| rest.split("\ndef ").next())
         .expect("identify()");
-    for word in ["truth_modes", "TRUTH_BRIDGE", "/truth/", "natural_frequency"] {
+    for word in [
+        "truth_modes",
+        "TRUTH_BRIDGE",
+        "/truth/",
+        "natural_frequency",
+    ] {
         assert!(!body.contains(word), "identify() uses `{word}`");
     }
     let main = source.split("\ndef main(").nth(1).expect("main()");
