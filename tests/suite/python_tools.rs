@@ -78,6 +78,8 @@ struct Files {
     empty_partial: PathBuf,
     /// The default scenario without sensors.
     no_sensors: PathBuf,
+    /// The ambient example (block layout, previews, sensors on DAQ node clocks), 3 s.
+    clocked: PathBuf,
 }
 
 fn simulate(dir: &Path, name: &str, extra: &[&str], scenario: Option<&Path>) -> PathBuf {
@@ -124,6 +126,9 @@ fn files() -> &'static Files {
         let scenario = d.join("no_sensors.toml");
         std::fs::write(&scenario, toml::to_string(&table).unwrap()).unwrap();
         let no_sensors = simulate(d, "no_sensors.mcap", &[], Some(&scenario));
+        let ambient =
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/ambient_monitoring.toml");
+        let clocked = simulate(d, "clocked.mcap", &[], Some(&ambient));
         Files {
             _dir: dir,
             good,
@@ -133,6 +138,7 @@ fn files() -> &'static Files {
             cut,
             empty_partial,
             no_sensors,
+            clocked,
         }
     })
 }
@@ -144,6 +150,8 @@ fn check_mcap_passes_a_good_file_and_fails_damaged_ones_and_one_without_sensors(
     };
     let f = files();
     expect_exit(&py, "check_mcap.py", &[&f.good], 0);
+    // Node-clock stamps on the measured and the preview topics, true time on the truth.
+    expect_exit(&py, "check_mcap.py", &[&f.clocked], 0);
     for bad in [&f.corrupt, &f.cut, &f.empty_partial, &f.no_sensors] {
         expect_exit(&py, "check_mcap.py", &[bad], 1);
     }
