@@ -16,7 +16,9 @@ Checks, per file:
 - sequence counts 1, 2, 3 ... on every channel (in a later part of a split run, metadata
   ``split`` with ``part`` > 0, it goes on from the previous part: consecutive from where
   each channel starts);
-- metadata records ``bridgetwin``, ``scenario`` and ``bridge_model`` exist (switchable).
+- metadata records ``bridgetwin``, ``scenario`` and ``bridge_model`` exist (switchable);
+- at least one ``/sensors/`` channel has messages (switchable): a run that measured
+  nothing is not a valid monitoring record.
 
 Prints one ``OK`` line per valid file; otherwise ``FAIL`` lines on stderr, exit status 1.
 """
@@ -163,7 +165,7 @@ def check_messages(path: str, problems: Problems, continued: bool) -> tuple[dict
     return {"header": header, "summary": summary}, observed
 
 
-def check_file(path: str, require_metadata: bool) -> tuple[Problems, str]:
+def check_file(path: str, require_metadata: bool, require_sensors: bool = True) -> tuple[Problems, str]:
     problems = Problems()
     try:
         records, continued = scan_records(path, problems)
@@ -195,6 +197,11 @@ def check_file(path: str, require_metadata: bool) -> tuple[Problems, str]:
     if require_metadata:
         for name in REQUIRED_METADATA:
             problems.check(name in seen["metadata"], f"metadata record {name!r} missing")
+    if require_sensors:
+        measured = [
+            c.topic for i, c in summary.channels.items() if c.topic.startswith("/sensors/") and seen["per_channel"].get(i, 0) > 0
+        ]
+        problems.check(bool(measured), "no /sensors/ channel has a message: nothing was measured")
 
     start = datetime.fromtimestamp(stats.message_start_time / 1e9, tz=timezone.utc)
     duration_s = (stats.message_end_time - stats.message_start_time) * 1e-9
@@ -215,10 +222,16 @@ def main() -> int:
         default=True,
         help="require the bridgetwin, scenario and bridge_model metadata records (default: on)",
     )
+    parser.add_argument(
+        "--require-sensors",
+        action=argparse.BooleanOptionalAction,
+        default=True,
+        help="require messages on at least one /sensors/ channel (default: on)",
+    )
     args = parser.parse_args()
     failed = 0
     for path in args.files:
-        problems, line = check_file(path, args.require_metadata)
+        problems, line = check_file(path, args.require_metadata, args.require_sensors)
         if problems.first:
             failed += 1
             for item in problems.lines():

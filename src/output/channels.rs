@@ -334,7 +334,16 @@ fn preview_channels<W: Write + Seek>(
         SensorKind::Strain => sink.add_channel::<StrainSample>(topic, meta),
         SensorKind::Displacement => sink.add_channel::<DisplacementSample>(topic, meta),
     };
-    let measured = add(sink, &measured_topic, meta.clone())?;
+    let mut measured_meta = meta.clone();
+    if let Some(clock) = &sensor.clock {
+        // The preview keeps the measured stream's instants, so its stamps are the node's.
+        measured_meta.insert("daq_node".into(), clock.node_id.clone());
+        measured_meta.insert(
+            "timestamps".into(),
+            "node clock (as the measured topic); the truth preview is in true time".into(),
+        );
+    }
+    let measured = add(sink, &measured_topic, measured_meta)?;
     meta.insert(
         "content".into(),
         "preview for viewers: the truth of the measured quantity, decimated as the measured \

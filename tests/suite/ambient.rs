@@ -353,9 +353,11 @@ fn same_seed_same_force_different_seed_different_force() {
 }
 
 #[test]
-fn setup_is_cheap() {
-    // The brief: well under 100 ms for a 50-element model. Timed loosely (a loaded
-    // 2-core machine), the figure is printed.
+fn setup_calibrates_from_the_modes_at_every_free_node() {
+    // No trial run: the calibration is a sum over the model's modes, and the loads act at
+    // every node that can move. How long the set-up takes is printed (the brief: well
+    // under 100 ms for 50 elements), not asserted: a timing threshold on a shared machine
+    // tests the machine.
     let model = fe(50);
     let start = Instant::now();
     let f = field(&model, &AmbientSpec::with_target(1e-3), 0.002, 1);
@@ -366,7 +368,18 @@ fn setup_is_cheap() {
         f.load_positions_m().len(),
         f.calibration_frequencies_hz().len()
     );
-    assert!(elapsed_s < 0.5, "{elapsed_s} s");
+    // 51 nodes of 50 elements, the two supports held.
+    assert_eq!(f.load_positions_m().len(), 49);
+    let modes = f.calibration_frequencies_hz();
+    assert!(
+        !modes.is_empty() && modes.len() <= model.n_dof(),
+        "{modes:?}"
+    );
+    assert!(modes.windows(2).all(|w| w[0] < w[1]), "{modes:?}");
+    assert!(
+        (modes[0] / model.frequency_hz(1) - 1.0).abs() < 1e-12,
+        "the first calibration mode is the model's f1: {modes:?}"
+    );
 }
 
 #[test]

@@ -4,15 +4,13 @@
 
 use bridgetwin::record::{Quantities, Record, SensorKind};
 use bridgetwin::scenario::{Layout, Scenario};
-use bridgetwin::sim::{prepare, run, VecRecorder};
+
+use crate::common::run_scenario;
 
 /// The records of `scenario`.
 fn run_records(scenario: &Scenario) -> (Vec<Record>, bridgetwin::record::RunManifest) {
-    let resolved = scenario.resolve().expect("resolves");
-    let prepared = prepare(&resolved).expect("prepares");
-    let mut out = VecRecorder::default();
-    run(&resolved, &prepared, &mut out, &mut |_, _| {}).expect("runs");
-    (out.records, out.manifest.expect("manifest"))
+    let run = run_scenario(scenario);
+    (run.records, run.manifest)
 }
 
 /// The default scenario (sample layout) in the block layout, over `duration_s`.

@@ -3,14 +3,15 @@
 //! vibration after a vehicle has left, timed by zero crossings) and compared with the
 //! closed form of a simply supported beam under the temperature law, and with the
 //! eigen-analysis of the damaged beam. The model pieces (laws, lag, growth) are tested
-//! on their own in `tests/environment.rs`.
+//! on their own in `tests/suite/environment.rs`.
 
 use std::io::Write;
 
 use bridgetwin::physics::bridge::{BeamProperties, BridgeModel, ModelSpec, StiffnessRegion};
 use bridgetwin::physics::environment::TemperatureStiffnessLaw;
-use bridgetwin::scenario::Scenario;
-use bridgetwin::sim::{prepare, run, ModalRecord, Record, VecRecorder};
+use bridgetwin::sim::{ModalRecord, Record};
+
+use crate::common::records_in;
 
 const SPAN_M: f64 = 30.0;
 const EI_N_M2: f64 = 5.629e10;
@@ -52,16 +53,6 @@ position_m = 15.0
 rate_hz = 500.0
 "#
     )
-}
-
-fn records(toml: &str, dir: &std::path::Path) -> Vec<Record> {
-    let mut scenario = Scenario::from_toml(toml, "test").expect("scenario");
-    scenario.resolve_relative_paths(dir);
-    let resolved = scenario.resolve().expect("resolves");
-    let prepared = prepare(&resolved).expect("prepares");
-    let mut out = VecRecorder::default();
-    run(&resolved, &prepared, &mut out, &mut |_, _| {}).expect("runs");
-    out.records
 }
 
 /// Damped frequency of the midspan displacement truth over [from_s, to_s], from the
@@ -120,7 +111,7 @@ fn f1_follows_the_temperature_law_through_model_rebuilds() {
     let toml = scenario_toml(
         "[environment]\ntemperature = { kind = \"csv\", path = \"air.csv\" }\nlag_s = 1.0\n",
     );
-    let recs = records(&toml, dir.path());
+    let recs = records_in(&toml, dir.path());
     let law = TemperatureStiffnessLaw::default();
     let cold_factor = law.factor(-10.0);
     assert!(cold_factor > 1.05, "E(-10 degC)/E_ref = {cold_factor}");
@@ -200,7 +191,7 @@ fn damage_lowers_f1_as_the_eigen_analysis_of_the_damaged_beam_says() {
     let toml = scenario_toml(
         "[[damage]]\nstart_m = 12.0\nend_m = 18.0\nreduction = 0.4\nonset_s = 15.0\n",
     );
-    let recs = records(&toml, dir.path());
+    let recs = records_in(&toml, dir.path());
 
     // The eigen-analysis of the damaged beam, independent of the run: EI x 0.6 over
     // [12, 18] m, a 60-element model (finer than the run's 20).

@@ -140,7 +140,7 @@ fn violations(src: &Path) -> Vec<String> {
         }
         let Some(allowed) = layers.get(layer.as_str()) else {
             out.push(format!(
-                "{}: `src/{layer}` is not a layer of tests/layers.rs (add it to ORDER)",
+                "{}: `src/{layer}` is not a layer of tests/suite/layers.rs (add it to ORDER)",
                 file.display()
             ));
             continue;
@@ -218,5 +218,40 @@ fn an_upward_import_is_found() {
     assert!(
         found[1].contains("physics::traffic uses physics::bridge"),
         "{found:#?}"
+    );
+}
+
+#[test]
+fn every_file_of_the_suite_is_one_of_its_modules() {
+    // The suite is one binary: a file in tests/suite/ that main.rs does not declare is
+    // never compiled, and its tests would pass by not existing.
+    let suite = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/suite");
+    let main = std::fs::read_to_string(suite.join("main.rs")).expect("main.rs");
+    let mut undeclared = Vec::new();
+    for entry in std::fs::read_dir(&suite).expect("tests/suite") {
+        let path = entry.expect("entry").path();
+        let name = match (path.is_dir(), path.extension()) {
+            (true, _) if path.join("mod.rs").is_file() => path.file_name(),
+            (false, Some(ext)) if ext == "rs" => path.file_stem(),
+            _ => continue,
+        };
+        let name = name.expect("a name").to_string_lossy().into_owned();
+        if name != "main" && !main.lines().any(|l| l.trim() == format!("mod {name};")) {
+            undeclared.push(name);
+        }
+    }
+    assert!(
+        undeclared.is_empty(),
+        "not declared in tests/suite/main.rs: {undeclared:?}"
+    );
+    // And no test file outside the suite (each would be a binary of its own).
+    let stray: Vec<_> = std::fs::read_dir(suite.parent().expect("tests"))
+        .expect("tests")
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|e| e == "rs"))
+        .collect();
+    assert!(
+        stray.is_empty(),
+        "test files outside tests/suite: {stray:?}"
     );
 }

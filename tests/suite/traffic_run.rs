@@ -1,11 +1,12 @@
 //! Issue 6 in a run: generated two-way traffic and multi-axle vehicles through the time
-//! loop (the generator's statistics are in `tests/traffic.rs`, the vehicle models in
-//! `tests/multi_axle.rs`).
+//! loop (the generator's statistics are in `tests/suite/traffic.rs`, the vehicle models in
+//! `tests/suite/multi_axle.rs`).
 
 use std::collections::BTreeMap;
 
-use bridgetwin::scenario::Scenario;
-use bridgetwin::sim::{prepare, run, AxleState, Record, VecRecorder};
+use bridgetwin::sim::{AxleState, Record};
+
+use crate::common::records_of as records;
 
 const BRIDGE: &str = r#"
 [bridge]
@@ -15,17 +16,6 @@ mass_per_length_kg_m = 12000.0
 damping_ratio = 0.02
 model = { kind = "finite_element", elements = 20 }
 "#;
-
-fn records(toml: &str) -> Vec<Record> {
-    let resolved = Scenario::from_toml(toml, "test")
-        .expect("scenario")
-        .resolve()
-        .expect("resolves");
-    let prepared = prepare(&resolved).expect("prepares");
-    let mut out = VecRecorder::default();
-    run(&resolved, &prepared, &mut out, &mut |_, _| {}).expect("runs");
-    out.records
-}
 
 fn axle_snapshots(recs: &[Record]) -> Vec<&Vec<AxleState>> {
     recs.iter()

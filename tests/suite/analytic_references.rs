@@ -229,7 +229,7 @@ fn vbi_reference_peak_damped_ramp() {
 
 /// 25, 50, 100 and 200 modes (slow: ~5e5 steps per simulated second at 100 modes, 4x the
 /// steps and 8x the work at 200; ~1.5 min per case). Run with
-/// `cargo test --test analytic_references -- --ignored`.
+/// `cargo test --test suite analytic_references:: -- --ignored`.
 #[test]
 #[ignore = "slow (tens of seconds): mode convergence of the sprung-mass reference"]
 fn vbi_peaks_converge_in_modes() {
