@@ -10,6 +10,9 @@
 //! - the block-layout examples (ambient_monitoring, day_of_traffic, hour_of_traffic,
 //!   two_trucks): they now carry the `/preview/...` channels (25 Hz); every other message
 //!   is unchanged.
+//! - the examples with sensors on DAQ node clocks (ambient_monitoring, day_of_traffic,
+//!   hour_of_traffic): the measured preview channels' metadata names the node
+//!   (`daq_node`, `timestamps`); no message changed.
 
 use std::path::Path;
 use std::process::Command;
@@ -27,12 +30,12 @@ const PINNED: &[(&str, f64, &str)] = &[
     (
         "ambient_monitoring",
         20.0,
-        "c1985da4e39c8917c4dc82d9fc660904ce7dff93f68b254455053b722b1d487d",
+        "a9f4f3715c81604ee896ea178356d526b7ad1a277be569f3e0042bce936cfb18",
     ),
     (
         "ambient_monitoring",
         120.0,
-        "c2a9656b78e3713221482765841bcc3c407c0557037d2b685ccc83a5bdb97993",
+        "7b057abbf8974864c83b663af41873722c84478e351f03f2431994a468328520",
     ),
     (
         "damage_onset",
@@ -42,17 +45,17 @@ const PINNED: &[(&str, f64, &str)] = &[
     (
         "day_of_traffic",
         20.0,
-        "93272b0d30ce4d1d8eb9098abc354d282abbebbb1df2f1855b440b8d678fb53b",
+        "ff388c11f9d6e066c906b49c2548f367ea38216dfeab8c4b2fc5722901143ab4",
     ),
     (
         "hour_of_traffic",
         20.0,
-        "803842bcc377c9af0c7bc74edbdfeb9a9acdfc97867177ab39f17d6182a96a7d",
+        "f74944da31735a460896c20323a126d3bf25681930551c1e7fdb6dfe9cfb35a7",
     ),
     (
         "hour_of_traffic",
         60.0,
-        "4cdab44e48e116fa23e4835f342a236511708f7d310fc2b4898a18f3edfcee93",
+        "bd7e42bc38ad6b1e5c4515e2d2cf3d552848d8b403977e1d0f2ec9e817db50b7",
     ),
     (
         "moving_force",
