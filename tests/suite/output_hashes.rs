@@ -10,6 +10,9 @@
 //! - the block-layout examples (ambient_monitoring, day_of_traffic, hour_of_traffic,
 //!   two_trucks): they now carry the `/preview/...` channels (25 Hz); every other message
 //!   is unchanged.
+//! - the examples with sensors on DAQ node clocks (ambient_monitoring, day_of_traffic,
+//!   hour_of_traffic): the measured preview channels' metadata names the node
+//!   (`daq_node`, `timestamps`); no message changed.
 //! - every run: the 3D scene on `/scene` (on by default at 10 Hz) and a first `/events`
 //!   line saying what the run holds; every other message is unchanged (chunk boundaries
 //!   move with the added bytes).
@@ -30,12 +33,12 @@ const PINNED: &[(&str, f64, &str)] = &[
     (
         "ambient_monitoring",
         20.0,
-        "7d3970d0106079293a4550217840c10ef5de9c4eab137c87c25a37fb6d29a108",
+        "11419dcee5286f65f574abf36cf43aaf7a3100c272d413fb000be435c9aa0705",
     ),
     (
         "ambient_monitoring",
         120.0,
-        "5682fe2e463baf675238bfc155cc6db8b7581e664e78420deba019573be3e101",
+        "fba8374a0e6db4e45c66cdc75c21f96756ad432cb7d79f0b00fd47d772f5d621",
     ),
     (
         "damage_onset",
@@ -45,17 +48,17 @@ const PINNED: &[(&str, f64, &str)] = &[
     (
         "day_of_traffic",
         20.0,
-        "8a3ab203495009c1089eee87aa35ad44f9ab987a7f934e1b668d7727500c51a8",
+        "d8681c297c1e8a9728b28f1e5d5d9edc9b0e486304716b07b9e247eb67a5442c",
     ),
     (
         "hour_of_traffic",
         20.0,
-        "22576c77dc6ab1955379d538f458065beadddf0f227dc81f9cabc9f78a57b072",
+        "10b563c873785a3929fbd58648db11fe96c00e6ccbbbcdb615664ecec8f279e3",
     ),
     (
         "hour_of_traffic",
         60.0,
-        "e4981a860fca2529e10e93bf433f6e4723d0dde36e71daaae69c596b3226e32e",
+        "ee3cece34dda7f879ebe93935096785096c0cb1208b87087991d30393d30a043",
     ),
     (
         "moving_force",
