@@ -5,6 +5,7 @@ mod resolve;
 #[cfg(test)]
 mod resolve_tests;
 mod resolved;
+mod scene;
 pub mod schema;
 mod sensors;
 
@@ -27,6 +28,9 @@ pub use resolve::{F1_RANGE_HZ, MAX_DURATION_S, MAX_ROAD_M, MAX_SPAN_M, MAX_SPEED
 pub use resolved::{
     Resolved, ResolvedSensor, ResolvedVehicle, MIN_STEPS_PER_MODE_PERIOD,
     MIN_STEPS_PER_SENSOR_PERIOD,
+};
+pub use scene::{
+    exaggeration_for, DEFAULT_SCENE_RATE_HZ, SCENE_FALLBACK_WEIGHT_N, SCENE_PEAK_FRACTION_OF_SPAN,
 };
 pub use sensors::sensor_streams;
 
@@ -364,6 +368,14 @@ pub struct OutputSection {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schemars(range(min = 0, max = 1e6))]
     pub preview_rate_hz: Option<f64>,
+    /// Rate of the 3D scene on `/scene` (`foxglove.SceneUpdate`, Hz; 0: none): the deck
+    /// following the deflected shape (exaggerated, the factor in the scene), the supports,
+    /// the vehicles with their axles and the sensors. Every n-th deflected shape gets an
+    /// update, n the shape rate over this, rounded (at least 1); the actual rate is in the
+    /// channel metadata. Default 10. At most 1e6.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(range(min = 0, max = 1e6))]
+    pub scene_rate_hz: Option<f64>,
 }
 
 /// Default of `output.preview_rate_hz` in the block layout: the pass band reaches 10 Hz
@@ -399,6 +411,7 @@ impl Default for OutputSection {
             split_every_s: None,
             flush_every_s: None,
             preview_rate_hz: None,
+            scene_rate_hz: None,
         }
     }
 }

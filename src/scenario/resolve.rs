@@ -218,6 +218,7 @@ impl Scenario {
             ));
         }
         let steps = steps as u64;
+        let scene = self.resolve_scene(&vehicles)?;
         Ok(Resolved {
             scenario: self.clone(),
             dt_ns,
@@ -233,6 +234,7 @@ impl Scenario {
             axle_stride,
             bridge_stride,
             flush_every_ns: (flush_every_s * 1e9).round() as u64,
+            scene,
             source_toml: String::new(),
             git_revision: crate::base::build_info::run_revision(),
         })

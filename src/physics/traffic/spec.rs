@@ -189,6 +189,22 @@ impl TrafficSpec {
         self.validated(field_prefix).map(|_| ())
     }
 
+    /// The largest gross weight this traffic can put on the bridge (t): the top of the
+    /// truncation range of every class with a positive share on a lane with traffic.
+    pub fn heaviest_gross_weight_t(&self, field_prefix: &str) -> Result<f64> {
+        let v = self.validated(field_prefix)?;
+        let present = |class: &VehicleClass| {
+            v.lanes
+                .iter()
+                .any(|lane| lane.flow_per_s > 0.0 && lane.shares[class.index()] > 0.0)
+        };
+        Ok(VehicleClass::ALL
+            .iter()
+            .filter(|c| present(c))
+            .map(|c| v.models[c.index()].weight_max_t)
+            .fold(0.0, f64::max))
+    }
+
     pub(crate) fn validated(&self, field_prefix: &str) -> Result<Validated> {
         let field = |name: &str| format!("{field_prefix}.{name}");
         if self.lanes.is_empty() {

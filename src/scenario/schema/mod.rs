@@ -2,7 +2,7 @@
 //! derives on [`Scenario`] and every type below it, bounds from `crate::base::schema`),
 //! never written by hand: `bridgetwin scenario schema` prints it, `bridgetwin scenario
 //! docs` renders it as the reference `docs/scenario.md` ([`markdown`]), and both are
-//! committed and kept current by `tests/scenario_schema.rs`.
+//! committed and kept current by `tests/suite/scenario_schema/`.
 //!
 //! Draft-07, because it is the newest dialect every TOML editor validates: Taplo (and
 //! with it the Even Better TOML extension) validates with a JSON Schema library built for

@@ -48,7 +48,7 @@ pub(super) fn sprung_mass_history(
 
 /// Modes of the analytical references in the ladder. Cost grows as N^3 (sprung_mass
 /// module docs); 25 modes cost 1/8 of 50. Truncation: 25 modes reproduce the four
-/// 100-mode VBI-2D peaks pinned in tests/analytic_references.rs within 4e-6 (measured),
+/// 100-mode VBI-2D peaks pinned in tests/suite/analytic_references.rs within 4e-6 (measured),
 /// far below every tolerance that uses them.
 pub(super) const REFERENCE_MODES: usize = 25;
 
