@@ -1,7 +1,7 @@
 //! bridgetwin: a digital twin of a road bridge under traffic.
 //!
 //! The folders are the layers of the architecture; a layer uses only the layers below
-//! it (`tests/layers.rs` fails on an import that runs upward), bottom to top:
+//! it (`tests/suite/layers.rs` fails on an import that runs upward), bottom to top:
 //!
 //! | layer | what it holds |
 //! |---|---|

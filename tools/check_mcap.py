@@ -11,11 +11,14 @@ Checks, per file:
   metadata and attachment counts) equal what was read;
 - log_time is never 0, never decreases through the file, equals publish_time and the
   message's ``timestamp`` field (on the measured topics of sensors on a DAQ node clock,
-  channel metadata ``daq_node``, the timestamp is the node's: within 1 s of log_time);
+  channel metadata ``daq_node``, the timestamp is the node's: within 1 s of log_time; a
+  ``foxglove.SceneUpdate`` has none: each of its entities' and deletions' timestamps);
 - sequence counts 1, 2, 3 ... on every channel (in a later part of a split run, metadata
   ``split`` with ``part`` > 0, it goes on from the previous part: consecutive from where
   each channel starts);
-- metadata records ``bridgetwin``, ``scenario`` and ``bridge_model`` exist (switchable).
+- metadata records ``bridgetwin``, ``scenario`` and ``bridge_model`` exist (switchable);
+- at least one ``/sensors/`` channel has messages (switchable): a run that measured
+  nothing is not a valid monitoring record.
 
 Prints one ``OK`` line per valid file; otherwise ``FAIL`` lines on stderr, exit status 1.
 """
@@ -118,7 +121,19 @@ def check_messages(path: str, problems: Problems, continued: bool) -> tuple[dict
                 f"{topic} sequence",
             )
             last_sequence[channel.id] = message.sequence
-            if "timestamp" not in decoded.DESCRIPTOR.fields_by_name:
+            if schema.name == "foxglove.SceneUpdate":
+                # Foxglove's schema has no timestamp of its own: every entity and deletion
+                # carries one, and each must be the log time.
+                stamps = [e.timestamp for e in decoded.entities] + [d.timestamp for d in decoded.deletions]
+                problems.check(bool(stamps), f"{topic}: a scene update with no entity", f"{topic} empty")
+                for stamp in stamps:
+                    stamp_ns = stamp.seconds * 1_000_000_000 + stamp.nanos
+                    problems.check(
+                        stamp_ns == t_ns,
+                        f"{topic}: entity timestamp {stamp_ns} != log_time {t_ns}",
+                        f"{topic} timestamp",
+                    )
+            elif "timestamp" not in decoded.DESCRIPTOR.fields_by_name:
                 problems.add(f"{topic}: message {schema.name} has no timestamp field")
             else:
                 stamp_ns = decoded.timestamp.seconds * 1_000_000_000 + decoded.timestamp.nanos
@@ -150,7 +165,7 @@ def check_messages(path: str, problems: Problems, continued: bool) -> tuple[dict
     return {"header": header, "summary": summary}, observed
 
 
-def check_file(path: str, require_metadata: bool) -> tuple[Problems, str]:
+def check_file(path: str, require_metadata: bool, require_sensors: bool = True) -> tuple[Problems, str]:
     problems = Problems()
     try:
         records, continued = scan_records(path, problems)
@@ -182,6 +197,11 @@ def check_file(path: str, require_metadata: bool) -> tuple[Problems, str]:
     if require_metadata:
         for name in REQUIRED_METADATA:
             problems.check(name in seen["metadata"], f"metadata record {name!r} missing")
+    if require_sensors:
+        measured = [
+            c.topic for i, c in summary.channels.items() if c.topic.startswith("/sensors/") and seen["per_channel"].get(i, 0) > 0
+        ]
+        problems.check(bool(measured), "no /sensors/ channel has a message: nothing was measured")
 
     start = datetime.fromtimestamp(stats.message_start_time / 1e9, tz=timezone.utc)
     duration_s = (stats.message_end_time - stats.message_start_time) * 1e-9
@@ -202,10 +222,16 @@ def main() -> int:
         default=True,
         help="require the bridgetwin, scenario and bridge_model metadata records (default: on)",
     )
+    parser.add_argument(
+        "--require-sensors",
+        action=argparse.BooleanOptionalAction,
+        default=True,
+        help="require messages on at least one /sensors/ channel (default: on)",
+    )
     args = parser.parse_args()
     failed = 0
     for path in args.files:
-        problems, line = check_file(path, args.require_metadata)
+        problems, line = check_file(path, args.require_metadata, args.require_sensors)
         if problems.first:
             failed += 1
             for item in problems.lines():

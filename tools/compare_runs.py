@@ -8,7 +8,9 @@ Loads every /sensors/ and /truth/sensors/ topic of both files with read_run.py a
 compares the values exactly and the time stamps to 1 us: a block carries its first
 sample's time and the period rounded to whole ns, so at rates whose period is not a
 whole number of ns (300 Hz) the times it implies drift from the per-sample stamps by up
-to block_samples / 2 ns (16 ns for 50 samples at 300 Hz). Exit code 1 on any difference."""
+to block_samples / 2 ns (16 ns for 50 samples at 300 Hz). Exit code 1 on any difference,
+on a damaged file (truncated, flipped bytes), or when the files have no sensor topic at
+all (there is nothing to compare, so nothing is shown to be equal)."""
 
 from __future__ import annotations
 
@@ -16,7 +18,7 @@ import sys
 
 import numpy as np
 
-from read_run import load_run
+from read_run import Damage, load_run
 
 PREFIXES = ("/sensors/", "/truth/sensors/")
 # Allowed difference of the time columns (see the module note), in their units.
@@ -25,8 +27,11 @@ TIME_TOLERANCE = {"log_time_ns": 1000, "timestamp_ns": 1000, "time_s": 1e-6}
 
 def compare(path_a: str, path_b: str) -> list[str]:
     """Differences between the sensor arrays of two runs (empty when identical)."""
-    a, b = load_run(path_a, PREFIXES), load_run(path_b, PREFIXES)
-    problems = []
+    damage_a, damage_b = Damage(), Damage()
+    a, b = load_run(path_a, PREFIXES, damage_a), load_run(path_b, PREFIXES, damage_b)
+    problems = [f"{path} is damaged: {'; '.join(d.problems)}" for path, d in ((path_a, damage_a), (path_b, damage_b)) if d]
+    if not a and not b:
+        problems.append(f"neither file has a topic under {', '.join(PREFIXES)}: nothing to compare")
     if sorted(a) != sorted(b):
         problems.append(f"topics differ: {sorted(set(a) ^ set(b))}")
     for topic in sorted(set(a) & set(b)):
@@ -48,7 +53,10 @@ def main(argv: list[str]) -> int:
     if len(argv) != 3:
         print(__doc__, file=sys.stderr)
         return 2
-    problems = compare(argv[1], argv[2])
+    try:
+        problems = compare(argv[1], argv[2])
+    except Exception as e:  # noqa: BLE001 - a file the readers cannot read is a difference
+        problems = [f"cannot be read: {type(e).__name__}: {e}"]
     for p in problems:
         print(f"DIFF {p}")
     if not problems:

@@ -9,6 +9,11 @@
     python3 tools/read_run.py run.mcap      # summary of a run
     python3 tools/read_run.py run.mcap /truth/axle_loads   # arrays of one topic
 
+The command exits 0 for a whole file, 3 for a damaged one (a killed run's `.partial`, a
+truncated copy: the intact part is read and printed, the damage said on stderr) and 1
+when nothing could be read, the topic has no message, or (summary) the file has no
+`/sensors/` topic.
+
 Messages are decoded with the schema stored in the file itself (the official `mcap` and
 `mcap-protobuf-support` packages), so no generated code is needed and new fields simply
 appear as new arrays. What a topic gives, as a dict of numpy arrays:
@@ -37,7 +42,7 @@ from typing import Any, Iterable
 import numpy as np
 from google.protobuf.descriptor import FieldDescriptor
 from mcap.reader import make_reader
-from mcap.records import Channel, Message, Schema
+from mcap.records import Channel, Footer, Message, Schema
 from mcap.stream_reader import StreamReader
 from mcap_protobuf.decoder import DecoderFactory
 
@@ -50,15 +55,18 @@ BLOCK_VALUE_NAMES = {
 SENSOR_PREFIXES = ("/sensors/",)
 
 
-def load_topic(path: str, topic: str) -> dict[str, np.ndarray]:
+def load_topic(path: str, topic: str, damage: Damage | None = None) -> dict[str, np.ndarray]:
     """All messages of one topic as a dict of numpy arrays (see the module doc)."""
-    return load_topics(path, [topic])[topic]
+    return load_topics(path, [topic], damage)[topic]
 
 
-def load_run(path: str, prefixes: Iterable[str] = SENSOR_PREFIXES) -> dict[str, dict[str, np.ndarray]]:
+def load_run(
+    path: str, prefixes: Iterable[str] = SENSOR_PREFIXES, damage: Damage | None = None
+) -> dict[str, dict[str, np.ndarray]]:
     """Every topic starting with one of ``prefixes`` (default: DAQ sensors), in one pass."""
     prefixes = tuple(prefixes)
-    return load_topics(path, [t for t in list_topics(path) if t.startswith(prefixes)])
+    topics = [t for t in list_topics(path, damage) if t.startswith(prefixes)]
+    return load_topics(path, topics, damage)
 
 
 def _summary_or_none(path: str):
@@ -70,54 +78,89 @@ def _summary_or_none(path: str):
             return None
 
 
-def iter_intact_messages(path: str, topics: Iterable[str] | None = None):
+class Damage:
+    """What a reader found wrong with a file: empty while the file is whole.
+
+    Pass one to the readers below to learn where the intact part of a damaged file ends
+    (a `.partial` file of a killed run, a truncated copy, flipped bytes)."""
+
+    def __init__(self) -> None:
+        self.problems: list[str] = []
+
+    def add(self, text: str) -> None:
+        # A file without summary is scanned twice (topics, then data): one note.
+        if text not in self.problems:
+            self.problems.append(text)
+
+    def __bool__(self) -> bool:
+        return bool(self.problems)
+
+
+def iter_intact_messages(path: str, topics: Iterable[str] | None = None, damage: Damage | None = None):
     """(channel, message, decoded) of every message before the first damaged record.
 
-    For a `.partial` file of a killed run: its data up to the last periodic flush. A note
-    on stderr says where the intact part ends."""
+    For a `.partial` file of a killed run: its data up to the last periodic flush. Where
+    the intact part ends is added to `damage` (printed on stderr without one): a record that
+    does not parse or fails its CRC, or a file that ends without its footer."""
     wanted = None if topics is None else set(topics)
     schemas: dict[int, Schema] = {}
     channels: dict[int, Channel] = {}
     decoders: dict[int, Any] = {}
     factory = DecoderFactory()
     count = 0
+    finished = False
+    problem = None
     with open(path, "rb") as f:
         try:
-            for record in StreamReader(f).records:
-                if isinstance(record, Schema):
+            for record in StreamReader(f, validate_crcs=True).records:
+                if isinstance(record, Footer):
+                    finished = True
+                elif isinstance(record, Schema):
                     schemas[record.id] = record
                 elif isinstance(record, Channel):
                     channels[record.id] = record
                 elif isinstance(record, Message):
+                    # Counted on every topic: the note on the damage is the same whichever
+                    # topics a pass reads.
+                    count += 1
                     channel = channels[record.channel_id]
                     if wanted is not None and channel.topic not in wanted:
                         continue
                     if record.channel_id not in decoders:
                         schema = schemas.get(channel.schema_id)
                         decoders[record.channel_id] = factory.decoder_for(channel.message_encoding, schema)
-                    count += 1
                     yield channel, record, decoders[record.channel_id](record.data)
         except Exception as e:  # noqa: BLE001 - the damaged tail of an interrupted file
-            print(f"{path}: intact up to message {count}; then {type(e).__name__}", file=sys.stderr)
+            problem = f"intact up to message {count}; then {type(e).__name__}: {e}"
+    if problem is None and not finished:
+        problem = f"intact up to message {count}; then the file ends without its footer"
+    if problem is not None:
+        if damage is None:
+            print(f"{path}: {problem}", file=sys.stderr)
+        else:
+            damage.add(problem)
 
 
-def list_topics(path: str) -> list[str]:
-    """Topic names of the file, sorted (a file without summary is scanned)."""
+def list_topics(path: str, damage: Damage | None = None) -> list[str]:
+    """Topic names of the file, sorted (a file without summary is scanned; what is
+    damaged goes to `damage`)."""
     summary = _summary_or_none(path)
     if summary is None:
-        return sorted({c.topic for c, _, _ in iter_intact_messages(path)})
+        return sorted({c.topic for c, _, _ in iter_intact_messages(path, damage=damage)})
     return sorted({c.topic for c in summary.channels.values()})
 
 
-def load_topics(path: str, topics: list[str]) -> dict[str, dict[str, np.ndarray]]:
-    """Several topics in one pass over the file: {topic: arrays}."""
+def load_topics(path: str, topics: list[str], damage: Damage | None = None) -> dict[str, dict[str, np.ndarray]]:
+    """Several topics in one pass over the file: {topic: arrays}. A file without summary
+    section is read up to its first damaged record, which is added to `damage`; a
+    damaged record in an indexed file raises."""
     rows: dict[str, list[dict]] = {t: [] for t in topics}
     # Rows of repeated message fields: {topic: {field name: rows}}.
     nested: dict[str, dict[str, list[dict]]] = {t: defaultdict(list) for t in topics}
     summary = _summary_or_none(path)
     start_ns = summary.statistics.message_start_time if summary and summary.statistics else None
     if summary is None:
-        messages = iter_intact_messages(path, topics)
+        messages = iter_intact_messages(path, topics, damage)
     else:
         known = {c.topic for c in summary.channels.values()}
         missing = sorted(set(topics) - known)
@@ -134,7 +177,7 @@ def load_topics(path: str, topics: list[str]) -> dict[str, dict[str, np.ndarray]
 
 def _iter_indexed(path: str, topics: list[str]):
     with open(path, "rb") as f:
-        reader = make_reader(f, decoder_factories=[DecoderFactory()])
+        reader = make_reader(f, validate_crcs=True, decoder_factories=[DecoderFactory()])
         for _, channel, message, decoded in reader.iter_decoded_messages(topics=topics):
             yield channel, message, decoded
 
@@ -249,17 +292,22 @@ def _describe(name: str, array: np.ndarray) -> str:
     return f"  {name:32s} {str(array.shape):14s} {array.dtype}"
 
 
-def print_summary(path: str) -> None:
-    """Prints the header, metadata, attachments and per-topic counts of a run."""
+def print_summary(path: str, damage: Damage | None = None) -> int:
+    """Prints the header, metadata, attachments and per-topic counts of a run; returns
+    the number of messages it found."""
     summary = _summary_or_none(path)
     if summary is None:
         counts: dict[str, int] = defaultdict(int)
-        for channel, _, _ in iter_intact_messages(path):
+        for channel, _, _ in iter_intact_messages(path, damage=damage):
             counts[channel.topic] += 1
         print(f"{path}: no summary section (interrupted run); intact messages per topic:")
         for topic, count in sorted(counts.items()):
             print(f"  {topic:36s} {count:8d}")
-        return
+        return sum(counts.values())
+    # The summary repeats what the writer counted: a linear pass with CRCs (nothing
+    # decoded) finds flipped bytes or a cut in the data before it.
+    for _ in iter_intact_messages(path, topics=[], damage=damage):
+        pass
     with open(path, "rb") as f:
         reader = make_reader(f)
         print(f"{path}: written by {reader.get_header().library}")
@@ -269,7 +317,9 @@ def print_summary(path: str) -> None:
             print(f"attachment {attachment.name} ({attachment.media_type}, {len(attachment.data)} B)")
     if summary.statistics is None:
         print("no statistics record")
-        return
+        if damage is not None:
+            damage.add("the summary has no statistics record")
+        return 0
     stats = summary.statistics
     duration_s = (stats.message_end_time - stats.message_start_time) * 1e-9
     print(f"{stats.message_count} messages, {duration_s:.3f} s")
@@ -277,19 +327,42 @@ def print_summary(path: str) -> None:
         count = stats.channel_message_counts.get(channel_id, 0)
         schema = summary.schemas[channel.schema_id].name
         print(f"  {channel.topic:36s} {schema:32s} {count:8d}")
+    return stats.message_count
+
+
+# Exit status of the command line: 1 when nothing could be read (the file is not an MCAP
+# file, the topic has no message, no sensor topic), 3 when the file is damaged and its
+# intact part was read and printed.
+EXIT_UNREADABLE = 1
+EXIT_DAMAGED = 3
 
 
 def main(argv: list[str]) -> int:
     if len(argv) not in (2, 3):
         print(__doc__.split("\n\n")[1], file=sys.stderr)
         return 2
-    if len(argv) == 2:
-        print_summary(argv[1])
-        return 0
-    arrays = load_topic(argv[1], argv[2])
-    print(f"{argv[2]}: {len(arrays.get('time_s', []))} rows")
-    for name, array in arrays.items():
-        print(_describe(name, array))
+    damage = Damage()
+    try:
+        if len(argv) == 2:
+            count = print_summary(argv[1], damage)
+            if count and not any(t.startswith(SENSOR_PREFIXES) for t in list_topics(argv[1], damage)):
+                print(f"{argv[1]}: no topic under {', '.join(SENSOR_PREFIXES)}: nothing was measured", file=sys.stderr)
+                return EXIT_UNREADABLE
+        else:
+            arrays = load_topic(argv[1], argv[2], damage)
+            count = len(arrays.get("time_s", []))
+            print(f"{argv[2]}: {count} rows")
+            for name, array in arrays.items():
+                print(_describe(name, array))
+    except Exception as e:  # noqa: BLE001 - any reader or decoder error ends the command
+        print(f"{argv[1]}: cannot be read: {type(e).__name__}: {e}", file=sys.stderr)
+        return EXIT_UNREADABLE
+    if count == 0:
+        print(f"{argv[1]}: no message could be read", file=sys.stderr)
+        return EXIT_UNREADABLE
+    if damage:
+        print(f"{argv[1]}: damaged, read what is intact: {'; '.join(damage.problems)}", file=sys.stderr)
+        return EXIT_DAMAGED
     return 0
 
 

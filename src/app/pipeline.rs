@@ -8,7 +8,7 @@
 //! - Emptied batches come back on a second channel and are refilled: no allocation per
 //!   batch once the pipeline is primed.
 //! - Records arrive at the writer in the order they were produced, so the file is
-//!   byte-identical to a run written inline (`tests/simulate_mcap.rs` checks it).
+//!   byte-identical to a run written inline (`tests/suite/simulate_mcap.rs` checks it).
 //! - The first writer error stops the pipeline: the time loop's next hand-over fails, and
 //!   the writer's own error (the informative one) is returned.
 //!

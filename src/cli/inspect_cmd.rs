@@ -45,7 +45,7 @@ pub fn run(args: &InspectArgs) -> Result<()> {
 }
 
 /// Prints `text`; a closed pipe (`inspect run.mcap | head`) is not an error.
-fn write_stdout(text: &str) -> Result<()> {
+pub(super) fn write_stdout(text: &str) -> Result<()> {
     use std::io::Write as _;
     let mut out = std::io::stdout().lock();
     match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {

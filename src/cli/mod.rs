@@ -4,6 +4,7 @@
 mod bench_cmd;
 mod from_mcap;
 mod inspect_cmd;
+mod layout_cmd;
 mod run_path;
 mod simulate_cmd;
 mod sweep_cmd;
@@ -32,6 +33,8 @@ pub enum Command {
     Scenario(ScenarioCommand),
     /// Summarise a run: channels, counts, rates, metadata, attachments and headline truth.
     Inspect(inspect_cmd::InspectArgs),
+    /// Build a Foxglove layout from a run's channels (JSON on stdout, or --out).
+    Layout(layout_cmd::LayoutArgs),
     /// Run a dataset sweep: a plan of scenario variations, one MCAP per run, runs.csv.
     Sweep(sweep_cmd::SweepArgs),
     /// Run the analytical verification ladder (exit code 1 if any check fails).
@@ -51,6 +54,13 @@ pub enum ScenarioCommand {
         /// Scenario TOML.
         file: PathBuf,
     },
+    /// Print the scenario format as a JSON Schema (draft-07) for TOML editors, generated
+    /// from the code: every key with its type, unit, default and allowed values
+    /// (docs/scenario.schema.json).
+    Schema,
+    /// Print the scenario reference in Markdown, generated from the same schema
+    /// (docs/scenario.md).
+    Docs,
 }
 
 #[derive(Debug, clap::Args)]
@@ -106,7 +116,16 @@ pub fn main() -> ExitCode {
         Command::Scenario(ScenarioCommand::Check { file }) => {
             simulate_cmd::check(&file).map(|()| true)
         }
+        Command::Scenario(ScenarioCommand::Schema) => {
+            simulate_cmd::schema();
+            Ok(true)
+        }
+        Command::Scenario(ScenarioCommand::Docs) => {
+            simulate_cmd::docs();
+            Ok(true)
+        }
         Command::Inspect(args) => inspect_cmd::run(&args).map(|()| true),
+        Command::Layout(args) => layout_cmd::run(&args).map(|()| true),
         Command::Sweep(args) => sweep_cmd::run(&args).map(|()| true),
         Command::Verify(args) => verify_cmd::run(&args),
         Command::Bench(args) => bench_cmd::run(&args).map(|()| true),

@@ -364,6 +364,16 @@ pub fn show() {
     print!("{DEFAULT_SCENARIO_TOML}");
 }
 
+/// `scenario schema`: prints the scenario's JSON Schema.
+pub fn schema() {
+    print!("{}", crate::scenario::schema::json_text());
+}
+
+/// `scenario docs`: prints the scenario reference (Markdown).
+pub fn docs() {
+    print!("{}", crate::scenario::schema::reference_text());
+}
+
 /// `scenario check FILE`: validates a scenario.
 pub fn check(path: &Path) -> Result<()> {
     let (scenario, _) = load_scenario(Some(path))?;

@@ -7,11 +7,12 @@ use std::collections::BTreeMap;
 use std::io::{Seek, Write};
 
 use super::blocks::{OpenBlock, Stream};
-use super::proto::foxglove::Log;
+use super::proto::foxglove::{Log, SceneUpdate};
 use super::proto::v1::{
     AccelerationSample, AxleLoads, BridgeState, DisplacementSample, FaultInterval, SampleBlock,
     SensorTruth, SensorTruthBlock, StrainSample, VehicleTruth, WimRecord,
 };
+use super::scene::SCENE_FRAME;
 use super::{metadata, ChannelId, McapSink, Topics};
 use crate::error::Result;
 use crate::record::{Layout, PreviewInfo, RunManifest, SensorChannelInfo, SensorKind};
@@ -48,6 +49,8 @@ pub(super) struct Channels {
     pub events: ChannelId,
     /// `/truth/faults`, registered when some sensor has faults configured.
     pub faults: Option<ChannelId>,
+    /// `/scene`, registered when the run writes the 3D scene.
+    pub scene: Option<ChannelId>,
 }
 
 /// Writes the run's metadata records and attachments, then registers every channel.
@@ -103,6 +106,35 @@ pub(super) fn register<W: Write + Seek>(
         )?),
         false => None,
     };
+    let scene = match &manifest.scene {
+        Some(info) => {
+            let rate = format!("{}", info.rate_hz);
+            let factor = format!("{}", info.exaggeration);
+            let peak = format!("{}", info.expected_peak_m);
+            Some(sink.add_channel::<SceneUpdate>(
+                Topics::SCENE,
+                metadata([
+                    ("sample_rate_hz", rate.as_str()),
+                    ("frame_id", SCENE_FRAME),
+                    (
+                        "axes",
+                        "x along the bridge from the left support, y across (lane 0 on +y), \
+                         z up; m",
+                    ),
+                    ("exaggeration", factor.as_str()),
+                    ("expected_peak_m", peak.as_str()),
+                    (
+                        "content",
+                        "the whole scene each message: the deck following the deflected \
+                         shape of /truth/bridge drawn exaggeration times larger, the supports, \
+                         the vehicles as boxes with a wheel pair at each axle of \
+                         /truth/axle_loads, the sensors and WIM strips",
+                    ),
+                ]),
+            )?)
+        }
+        None => None,
+    };
     Ok(Channels {
         sensors,
         axle_loads,
@@ -111,6 +143,7 @@ pub(super) fn register<W: Write + Seek>(
         wim,
         events,
         faults,
+        scene,
     })
 }
 
@@ -301,7 +334,16 @@ fn preview_channels<W: Write + Seek>(
         SensorKind::Strain => sink.add_channel::<StrainSample>(topic, meta),
         SensorKind::Displacement => sink.add_channel::<DisplacementSample>(topic, meta),
     };
-    let measured = add(sink, &measured_topic, meta.clone())?;
+    let mut measured_meta = meta.clone();
+    if let Some(clock) = &sensor.clock {
+        // The preview keeps the measured stream's instants, so its stamps are the node's.
+        measured_meta.insert("daq_node".into(), clock.node_id.clone());
+        measured_meta.insert(
+            "timestamps".into(),
+            "node clock (as the measured topic); the truth preview is in true time".into(),
+        );
+    }
+    let measured = add(sink, &measured_topic, measured_meta)?;
     meta.insert(
         "content".into(),
         "preview for viewers: the truth of the measured quantity, decimated as the measured \

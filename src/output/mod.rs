@@ -14,9 +14,11 @@
 
 mod blocks;
 mod channels;
+pub mod layout;
 mod messages;
 mod parts;
 mod recorder;
+mod scene;
 mod schema;
 mod topics;
 mod writer;
@@ -25,6 +27,7 @@ use std::collections::BTreeMap;
 
 pub use parts::{existing_parts, part_path};
 pub use recorder::McapRecorder;
+pub use scene::{LANE_WIDTH_M, SCENE_FRAME};
 pub use schema::{self_contained_descriptor_set, ALL_DESCRIPTORS};
 pub use topics::{validate_segment, validate_topic, Topics};
 pub use writer::{ChannelId, McapSink, SinkOptions};
@@ -35,7 +38,8 @@ pub mod proto {
     pub mod v1 {
         include!(concat!(env!("OUT_DIR"), "/bridgetwin.v1.rs"));
     }
-    /// Package `foxglove` (only `foxglove.Log`, for the Log panel).
+    /// Package `foxglove`: `foxglove.Log` for the Log panel, `foxglove.SceneUpdate` and
+    /// its parts for the 3D panel.
     pub mod foxglove {
         include!(concat!(env!("OUT_DIR"), "/foxglove.rs"));
     }

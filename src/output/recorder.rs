@@ -16,9 +16,10 @@ use super::proto::v1::{
     AccelerationSample, BridgeState, DisplacementSample, SampleBlock, SensorTruth,
     SensorTruthBlock, StrainSample,
 };
+use super::scene::{interpolate, SceneGeometry};
 use super::{timestamp_from_ns, ChannelId, McapSink};
 use crate::error::{Error, Result};
-use crate::record::{Layout, Quantities, Record, Recorder, RunManifest, SensorKind};
+use crate::record::{AxleState, Layout, Quantities, Record, Recorder, RunManifest, SensorKind};
 
 /// What the recorder knows once the manifest has arrived.
 struct Run {
@@ -28,6 +29,18 @@ struct Run {
     span_m: f64,
     /// Block layout: sensor samples go into blocks, every record through `reorder`.
     blocked: bool,
+    /// The 3D scene, if the run writes it.
+    scene: Option<SceneState>,
+}
+
+/// The scene's inputs between updates.
+struct SceneState {
+    geometry: SceneGeometry,
+    /// The axles of the latest `AxleLoads` record (written before the shape of the same
+    /// instant, so an update sees the axles of its own instant when the rates allow).
+    axles: Vec<AxleState>,
+    /// Deflected shapes seen so far.
+    shapes: u64,
 }
 
 /// A [`Recorder`] writing to an MCAP sink.
@@ -310,7 +323,11 @@ impl<'a, W: Write + Seek> McapRecorder<'a, W> {
             Record::AxleLoads { axles, .. } => {
                 let channel = ch.axle_loads;
                 self.sink
-                    .write(channel, time, &messages::axle_loads(ts, &axles))
+                    .write(channel, time, &messages::axle_loads(ts, &axles))?;
+                if let Some(scene) = self.run.as_mut().and_then(|r| r.scene.as_mut()) {
+                    scene.axles = axles;
+                }
+                Ok(())
             }
             Record::BridgeShape {
                 deflection_m,
@@ -320,6 +337,12 @@ impl<'a, W: Write + Seek> McapRecorder<'a, W> {
             } => {
                 let midspan = interpolate(&run.shape_position_m, &deflection_m, run.span_m / 2.0);
                 let (temperature_c, air_temperature_c) = temperatures_c.unwrap_or_default();
+                let scene = run.scene.as_ref().and_then(|scene| {
+                    let due = scene
+                        .shapes
+                        .is_multiple_of(scene.geometry.info.every_shapes);
+                    due.then(|| scene.geometry.update(time, &deflection_m, &scene.axles))
+                });
                 let mut msg = BridgeState {
                     timestamp: ts,
                     node_position_m: run.shape_position_m.clone(),
@@ -337,7 +360,18 @@ impl<'a, W: Write + Seek> McapRecorder<'a, W> {
                     msg.damage_fraction = modal.damage_fraction;
                 }
                 let channel = ch.bridge;
-                self.sink.write(channel, time, &msg)
+                let scene_channel = ch.scene;
+                self.sink.write(channel, time, &msg)?;
+                if let Some(scene) = self.run.as_mut().and_then(|r| r.scene.as_mut()) {
+                    scene.shapes += 1;
+                }
+                match (scene, scene_channel) {
+                    (Some(update), Some(channel)) => {
+                        self.messages += 1;
+                        self.sink.write(channel, time, &update)
+                    }
+                    _ => Ok(()),
+                }
             }
             Record::Vehicle { vehicle, .. } => {
                 let channel = ch.vehicles;
@@ -429,6 +463,11 @@ impl<W: Write + Seek> Recorder for McapRecorder<'_, W> {
             shape_position_m: manifest.bridge.shape_position_m.clone(),
             span_m: manifest.bridge.span_m,
             blocked: manifest.layout == Layout::Block,
+            scene: SceneGeometry::new(manifest).map(|geometry| SceneState {
+                geometry,
+                axles: Vec::new(),
+                shapes: 0,
+            }),
         });
         self.write_modal_state(manifest)
     }
@@ -458,17 +497,4 @@ impl<W: Write + Seek> Recorder for McapRecorder<'_, W> {
         }
         self.release()
     }
-}
-
-/// Linear interpolation of `ys` over `xs` at `x` (the shape at midspan).
-fn interpolate(xs: &[f64], ys: &[f64], x: f64) -> f64 {
-    let i = xs
-        .partition_point(|&v| v <= x)
-        .clamp(1, xs.len().saturating_sub(1).max(1));
-    if xs.len() < 2 {
-        return ys.first().copied().unwrap_or(0.0);
-    }
-    let (x0, x1) = (xs[i - 1], xs[i]);
-    let w = if x1 > x0 { (x - x0) / (x1 - x0) } else { 0.0 };
-    ys[i - 1] * (1.0 - w) + ys[i] * w
 }

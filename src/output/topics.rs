@@ -19,6 +19,8 @@ impl Topics {
     pub const FAULTS: &'static str = "/truth/faults";
     /// Events as `foxglove.Log`.
     pub const EVENTS: &'static str = "/events";
+    /// The 3D scene as `foxglove.SceneUpdate`.
+    pub const SCENE: &'static str = "/scene";
     /// Suffix of a sensor's block-layout topic when both layouts are written in one file
     /// (`/sensors/accel/A1/blocks`); a single-layout file uses the plain sensor topic.
     pub const BLOCKS_SUFFIX: &'static str = "/blocks";
@@ -127,6 +129,7 @@ mod tests {
             Topics::VEHICLES,
             Topics::BRIDGE,
             Topics::EVENTS,
+            Topics::SCENE,
         ] {
             validate_topic(topic).unwrap();
         }

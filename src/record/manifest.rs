@@ -4,13 +4,14 @@
 //! from the resolved scenario and the model; an output registers its channels and
 //! writes its metadata from it alone.
 
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 use super::quantities::SensorKind;
 use crate::base::rate::ExactRate;
 
 /// How sensor samples are laid out in messages.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum Layout {
     /// One sample per message: every field plottable as a time series.
@@ -115,6 +116,24 @@ pub struct PreviewInfo {
     pub rate_hz: f64,
 }
 
+/// The 3D scene of the run (`/scene`): the deck following the deflected shape, the
+/// supports, the vehicles and the sensors, at a low rate.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SceneInfo {
+    /// Deflected shapes (`Record::BridgeShape`) per scene update, >= 1; the first shape
+    /// of the run gets one.
+    pub every_shapes: u64,
+    /// The scene's nominal rate, the shape rate over `every_shapes` (Hz).
+    pub rate_hz: f64,
+    /// Factor on the deflections drawn (no unit).
+    pub exaggeration: f64,
+    /// The deflection the factor was chosen from: static midspan deflection under the
+    /// heaviest vehicle the scenario can put on the bridge (m).
+    pub expected_peak_m: f64,
+    /// Lanes the deck is drawn wide enough for (count, >= 1).
+    pub lanes: u32,
+}
+
 /// One weigh-in-motion station.
 #[derive(Debug, Clone, PartialEq)]
 pub struct WimStationInfo {
@@ -145,6 +164,8 @@ pub struct RunManifest {
     pub layout: Layout,
     /// Samples per block message (block layout).
     pub block_samples: usize,
+    /// The 3D scene, if the run writes it.
+    pub scene: Option<SceneInfo>,
 }
 
 impl RunManifest {
@@ -185,6 +206,7 @@ impl RunManifest {
             },
             layout: Layout::Sample,
             block_samples: 50,
+            scene: None,
         }
     }
 

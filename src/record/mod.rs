@@ -15,7 +15,7 @@ mod wim;
 
 pub use manifest::{
     BridgeSummary, ChainParameter, DaqClockInfo, Layout, PreviewInfo, RoadSummary, RunInfo,
-    RunManifest, SensorChannelInfo, StreamRates, WimStationInfo,
+    RunManifest, SceneInfo, SensorChannelInfo, StreamRates, WimStationInfo,
 };
 pub use quantities::{Quantities, SensorKind};
 pub use records::{

@@ -1,5 +1,6 @@
 //! The response quantities at a point of the bridge, and what a sensor measures of them.
 
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 /// Response quantities at a point, output sign convention: displacement, velocity and
@@ -51,7 +52,7 @@ impl Quantities {
 }
 
 /// What a sensor measures.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum SensorKind {
     Accelerometer,

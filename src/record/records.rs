@@ -17,6 +17,8 @@ pub enum EventLevel {
 pub struct AxleState {
     pub vehicle_id: u32,
     pub axle_index: u32,
+    /// The vehicle's lane (count from 0).
+    pub lane: u32,
     pub position_m: f64,
     pub force_n: f64,
     pub static_load_n: f64,

@@ -5,12 +5,16 @@ mod resolve;
 #[cfg(test)]
 mod resolve_tests;
 mod resolved;
+mod scene;
+pub mod schema;
 mod sensors;
 
 use std::path::Path;
 
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
+use crate::base::schema as bounds;
 use crate::base::tagged;
 use crate::error::{Error, Result};
 use crate::physics::bridge::{BeamProperties, ModelSpec, StiffnessRegion};
@@ -20,10 +24,13 @@ use crate::physics::vehicle::VehicleModelSpec;
 pub use crate::record::{Layout, SensorKind};
 
 use resolve::unique_segment;
-pub use resolve::{F1_RANGE_HZ, MAX_DURATION_S, MAX_ROAD_M, MAX_SPAN_M, MAX_STEPS};
+pub use resolve::{F1_RANGE_HZ, MAX_DURATION_S, MAX_ROAD_M, MAX_SPAN_M, MAX_SPEED_M_S, MAX_STEPS};
 pub use resolved::{
     Resolved, ResolvedSensor, ResolvedVehicle, MIN_STEPS_PER_MODE_PERIOD,
     MIN_STEPS_PER_SENSOR_PERIOD,
+};
+pub use scene::{
+    exaggeration_for, DEFAULT_SCENE_RATE_HZ, SCENE_FALLBACK_WEIGHT_N, SCENE_PEAK_FRACTION_OF_SPAN,
 };
 pub use sensors::sensor_streams;
 
@@ -31,27 +38,38 @@ pub use sensors::sensor_streams;
 pub const DEFAULT_SCENARIO_TOML: &str = include_str!("default.toml");
 
 /// A run, as written in a scenario file.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
+// Generated traffic has no last vehicle to end the run: `resolve` requires `duration_s`.
+#[schemars(extend("dependencies" = { "traffic": ["duration_s"] }))]
 pub struct Scenario {
     /// Run seed; every random component derives its own stream from it (default 42).
     #[serde(default = "default_seed")]
     pub seed: u64,
     /// Wall-clock time of t = 0, RFC 3339 (default 2026-01-01T00:00:00Z).
     #[serde(default = "default_start_time")]
+    #[schemars(extend("format" = "date-time"))]
     pub start_time: String,
-    /// Simulated time (s); default: until the last vehicle has left the bridge + 3 s.
+    /// Simulated time (s), at most 30 days; default: until the last vehicle has left the
+    /// bridge + 3 s.
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(transform = bounds::positive, range(max = resolve::MAX_DURATION_S))]
     pub duration_s: Option<f64>,
+    /// The simply supported beam: span, EI, mass, damping and its discretization.
     pub bridge: BridgeSection,
+    /// Time step and integrator.
     #[serde(default)]
     pub solver: SolverSection,
+    /// Road profile, approach and exit.
     #[serde(default)]
     pub road: RoadSection,
+    /// Vehicles listed one by one, each with its model, speed and entry time.
     #[serde(default)]
     pub vehicles: Vec<VehicleEntry>,
+    /// Bridge sensors: accelerometers, strain gauges, displacement transducers.
     #[serde(default)]
     pub sensors: Vec<SensorSpec>,
+    /// Weigh-in-motion strips on the approach.
     #[serde(default)]
     pub wim_stations: Vec<WimStationSpec>,
     /// Generated traffic (lanes, flows, class mix): vehicles arrive during the run, next to
@@ -72,6 +90,7 @@ pub struct Scenario {
     /// Damaged regions: EI loss with an onset time and a growth law.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub damage: Vec<crate::physics::environment::DamageSpec>,
+    /// Message layout, truth-stream rates and file splitting.
     #[serde(default)]
     pub output: OutputSection,
 }
@@ -84,14 +103,21 @@ fn default_start_time() -> String {
 }
 
 /// The bridge.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct BridgeSection {
+    /// Span between the supports (m), at most 10 km.
+    #[schemars(transform = bounds::positive, range(max = resolve::MAX_SPAN_M))]
     pub span_m: f64,
+    /// Flexural rigidity EI of the uniform beam (N m^2).
+    #[schemars(transform = bounds::positive)]
     pub flexural_rigidity_n_m2: f64,
+    /// Mass per unit length (kg/m).
+    #[schemars(transform = bounds::positive)]
     pub mass_per_length_kg_m: f64,
     /// Rayleigh damping ratio on modes 1 and 2, in [0, 1) (default 0.02).
     #[serde(default = "default_damping")]
+    #[schemars(range(min = 0), transform = bounds::below(1.0))]
     pub damping_ratio: f64,
     /// Discretization (default finite elements, 30 elements).
     #[serde(default = "default_model")]
@@ -121,11 +147,12 @@ impl BridgeSection {
 }
 
 /// Time integration.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SolverSection {
-    /// Time step (s), a whole number of nanoseconds (default 0.001).
+    /// Time step (s), a whole number of nanoseconds in (0, 0.1] (default 0.001).
     #[serde(default = "default_dt")]
+    #[schemars(transform = bounds::positive, range(max = 0.1))]
     pub dt_s: f64,
     /// Newmark gamma and beta (default average acceleration).
     #[serde(default)]
@@ -150,17 +177,20 @@ impl Default for SolverSection {
 }
 
 /// The road: one continuous profile over approach, bridge and exit.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct RoadSection {
     /// Profile (default smooth).
     #[serde(default)]
     pub profile: RoadProfileSpec,
-    /// Approach length before the bridge where vehicles start (m, default 100).
+    /// Approach length before the bridge where vehicles start (m, default 100), at most
+    /// 100 km.
     #[serde(default = "default_approach")]
+    #[schemars(transform = bounds::positive, range(max = resolve::MAX_ROAD_M))]
     pub approach_m: f64,
-    /// Road after the bridge before vehicles are dropped (m, default 30).
+    /// Road after the bridge before vehicles are dropped (m, default 30), at most 100 km.
     #[serde(default = "default_exit")]
+    #[schemars(range(min = 0, max = resolve::MAX_ROAD_M))]
     pub exit_m: f64,
 }
 
@@ -182,17 +212,21 @@ impl Default for RoadSection {
 }
 
 /// One vehicle with its entry time.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct VehicleEntry {
     /// Vehicle id in the truth streams (default: 1-based index).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub id: Option<u32>,
+    /// The vehicle model, chosen by `kind`.
     pub model: VehicleModelSpec,
-    /// Speed (m/s, > 0).
+    /// Speed (m/s, > 0, at most 100).
+    #[schemars(transform = bounds::positive, range(max = resolve::MAX_SPEED_M_S))]
     pub speed_m_s: f64,
-    /// Time at which the front axle is at the start of the approach (s, default 0).
+    /// Time at which the front axle is at the start of the approach (s, default 0), at
+    /// most 30 days.
     #[serde(default)]
+    #[schemars(range(min = 0, max = resolve::MAX_DURATION_S))]
     pub entry_time_s: f64,
     /// Lane number for the records (default 1).
     #[serde(default = "default_lane")]
@@ -200,6 +234,7 @@ pub struct VehicleEntry {
     /// 1 (default): towards +x, entering at the left support; -1: the opposite
     /// direction, entering at the right support after its own approach.
     #[serde(default = "default_direction", skip_serializing_if = "is_forward")]
+    #[schemars(extend("enum" = [1, -1], "default" = 1))]
     pub direction: i8,
 }
 
@@ -227,22 +262,28 @@ pub fn default_noise_density(kind: SensorKind) -> f64 {
 }
 
 /// One bridge sensor.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SensorSpec {
     /// Topic segment: letters, digits, `_` and `-`; unique.
+    #[schemars(regex(pattern = bounds::TOPIC_SEGMENT))]
     pub id: String,
+    /// What the sensor measures.
     pub kind: SensorKind,
     /// Position along the span (m, in [0, span]).
+    #[schemars(range(min = 0, max = resolve::MAX_SPAN_M))]
     pub position_m: f64,
     /// DAQ sample rate (Hz, <= 1/dt; need not divide it).
+    #[schemars(transform = bounds::positive)]
     pub rate_hz: f64,
-    /// White-noise density in the unit of the sensor per sqrt(Hz) (default by kind; with a
-    /// preset or chain, it overrides the chain's `noise_density`).
+    /// White-noise density in the unit of the sensor per sqrt(Hz), >= 0 (default by kind;
+    /// with a preset or chain, it overrides the chain's `noise_density`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(range(min = 0))]
     pub noise_density: Option<f64>,
-    /// Strain gauges: distance of the gauge below the neutral axis (m, default 0.8).
+    /// Strain gauges: distance of the gauge below the neutral axis (m, > 0, default 0.8).
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(transform = bounds::positive)]
     pub gauge_depth_m: Option<f64>,
     /// Measurement-chain preset (`ideal`, `mems_lownoise`, `piezo_seismic`,
     /// `force_balance`, `mems_consumer`, `strain_foil`); with neither `preset` nor `chain`
@@ -255,6 +296,7 @@ pub struct SensorSpec {
     /// Id of the DAQ node (`[[daq_nodes]]`) whose clock samples and stamps this sensor;
     /// none: an ideal clock (stamps = true instants).
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(regex(pattern = bounds::TOPIC_SEGMENT))]
     pub daq_node: Option<String>,
     /// Faults of the measured stream, each labelled on `/truth/faults` and `/events`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -262,11 +304,14 @@ pub struct SensorSpec {
 }
 
 /// A weigh-in-motion strip on the road.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct WimStationSpec {
+    /// Station name in the topics (`/wim/<id>`): letters, digits, `_` and `-`; unique.
+    #[schemars(regex(pattern = bounds::TOPIC_SEGMENT))]
     pub id: String,
-    /// Strip position on the road axis (m; negative = on the approach).
+    /// Strip position on the road axis (m), on the approach: in (-approach_m, 0).
+    #[schemars(range(min = -resolve::MAX_ROAD_M), transform = bounds::below(0.0))]
     pub position_m: f64,
     /// What the station reports: `{ kind = "ideal" }` (default: the dynamic tyre force
     /// at the strip), `{ kind = "cost323", class = "B+(7)" }`, `{ kind = "physics",
@@ -279,32 +324,39 @@ pub struct WimStationSpec {
 }
 
 /// Output options.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct OutputSection {
     /// `sample` (default) or `block`.
     #[serde(default = "default_layout")]
     pub layout: Layout,
-    /// Samples per block message (default 50).
+    /// Samples per block message, 1 to 100 000 (default 50).
     #[serde(default = "default_block")]
+    #[schemars(range(min = 1, max = 100_000))]
     pub block_samples: usize,
-    /// Rate of `/truth/axle_loads` (Hz, must divide the solver rate; default 200).
+    /// Rate of `/truth/axle_loads` (Hz, must divide the solver rate, at least one message
+    /// in 30 days; default 200).
     #[serde(default = "default_axle_rate")]
+    #[schemars(range(min = 1.0 / resolve::MAX_DURATION_S))]
     pub axle_load_rate_hz: f64,
-    /// Rate of the deflected shape on `/truth/bridge` (Hz, must divide the solver rate; default 20).
+    /// Rate of the deflected shape on `/truth/bridge` (Hz, must divide the solver rate, at
+    /// least one message in 30 days; default 20).
     #[serde(default = "default_bridge_rate")]
+    #[schemars(range(min = 1.0 / resolve::MAX_DURATION_S))]
     pub bridge_state_rate_hz: f64,
     /// Starts a new file every this much simulated time (s, >= 1): `--out day.mcap` writes
     /// `day-0000.mcap`, `day-0001.mcap`, ... each a complete MCAP with every channel, as a
     /// monitoring system keeps hourly files. Memory then stays flat however long the run
     /// (one file's index grows with its size). Default: one file.
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(range(min = 1))]
     pub split_every_s: Option<f64>,
     /// Closes the file's current chunk every this much simulated time (s, > 0; default
     /// 60), so that a run killed midway leaves a file readable up to a recent flush. It
     /// follows simulated time, never the wall clock: the bytes never depend on the
-    /// machine's speed.
+    /// machine's speed. At least 0.001 s, at most 30 days.
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(range(min = 0.001, max = resolve::MAX_DURATION_S))]
     pub flush_every_s: Option<f64>,
     /// Rate of the per-sample preview channels (`/preview/...`, Hz; 0: none): each sensor's
     /// measured and true stream decimated by a whole factor with the anti-alias filter,
@@ -312,9 +364,18 @@ pub struct OutputSection {
     /// series (it cannot draw the samples inside a block message against time). The
     /// factor is the sensor rate over this, rounded (at least 1); the actual rate is in
     /// the channel metadata. Default: 25 with the block layout, none with the sample
-    /// layout (its messages already are per sample).
+    /// layout (its messages already are per sample). At most 1e6.
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(range(min = 0, max = 1e6))]
     pub preview_rate_hz: Option<f64>,
+    /// Rate of the 3D scene on `/scene` (`foxglove.SceneUpdate`, Hz; 0: none): the deck
+    /// following the deflected shape (exaggerated, the factor in the scene), the supports,
+    /// the vehicles with their axles and the sensors. Every n-th deflected shape gets an
+    /// update, n the shape rate over this, rounded (at least 1); the actual rate is in the
+    /// channel metadata. Default 10. At most 1e6.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(range(min = 0, max = 1e6))]
+    pub scene_rate_hz: Option<f64>,
 }
 
 /// Default of `output.preview_rate_hz` in the block layout: the pass band reaches 10 Hz
@@ -350,6 +411,7 @@ impl Default for OutputSection {
             split_every_s: None,
             flush_every_s: None,
             preview_rate_hz: None,
+            scene_rate_hz: None,
         }
     }
 }

@@ -22,6 +22,9 @@ pub const MAX_SPAN_M: f64 = 10_000.0;
 /// Longest approach or exit road (m).
 pub const MAX_ROAD_M: f64 = 100_000.0;
 
+/// Fastest vehicle (m/s, 360 km/h): beyond any road traffic.
+pub const MAX_SPEED_M_S: f64 = 100.0;
+
 /// The first natural frequency a bridge may have (Hz, closed form of the uniform beam):
 /// road bridges have 0.2-30 Hz, laboratory beams up to a few hundred. Outside this range
 /// the input is a typo (an exponent off by orders of magnitude), not a bridge.
@@ -215,6 +218,7 @@ impl Scenario {
             ));
         }
         let steps = steps as u64;
+        let scene = self.resolve_scene(&vehicles)?;
         Ok(Resolved {
             scenario: self.clone(),
             dt_ns,
@@ -230,6 +234,7 @@ impl Scenario {
             axle_stride,
             bridge_stride,
             flush_every_ns: (flush_every_s * 1e9).round() as u64,
+            scene,
             source_toml: String::new(),
             git_revision: crate::base::build_info::run_revision(),
         })
@@ -386,11 +391,11 @@ impl Scenario {
             let path = format!("vehicles.{i}");
             let dynamics = v.model.build(&format!("{path}.model"))?;
             require_positive(&format!("{path}.speed_m_s"), v.speed_m_s)?;
-            if v.speed_m_s > 100.0 {
+            if v.speed_m_s > MAX_SPEED_M_S {
                 return Err(Error::invalid(
                     format!("{path}.speed_m_s"),
                     num(v.speed_m_s),
-                    "must be at most 100 m/s",
+                    format!("must be at most {MAX_SPEED_M_S} m/s"),
                 ));
             }
             require_non_negative(&format!("{path}.entry_time_s"), v.entry_time_s)?;

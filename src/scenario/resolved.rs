@@ -12,6 +12,7 @@ use crate::measurement::wim::WimStation;
 use crate::physics::bridge::ModelSpec;
 use crate::physics::solver::NewmarkCoefficients;
 use crate::physics::vehicle::VehicleDynamics;
+use crate::record::SceneInfo;
 
 use super::{Scenario, SensorSpec};
 
@@ -110,6 +111,8 @@ pub struct Resolved {
     pub bridge_stride: u64,
     /// Simulated time between the output's chunk flushes (ns).
     pub flush_every_ns: u64,
+    /// The 3D scene on `/scene`, `None` when `output.scene_rate_hz` is 0.
+    pub scene: Option<SceneInfo>,
     /// The scenario as the user wrote it (stored in the output); empty for a scenario
     /// built in code. Set by the caller that read the file.
     pub source_toml: String,

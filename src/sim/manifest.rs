@@ -66,6 +66,7 @@ pub fn manifest(resolved: &Resolved, prepared: &Prepared) -> Result<RunManifest>
         },
         layout: s.output.layout,
         block_samples: s.output.block_samples,
+        scene: resolved.scene,
     })
 }
 

@@ -241,6 +241,11 @@ pub fn run_controlled(
     let mut merger = Merger {
         truth: VecDeque::new(),
     };
+    merger.truth.push_back(Record::Event {
+        t_ns: 0,
+        level: EventLevel::Info,
+        text: start_text(resolved, model),
+    });
     let mut tracker = Tracker::new(resolved, model.span_m())?;
     let mut shape_ops = vec![SparseVec::default(); model.shape_positions_m().len()];
     let mut midspan = SparseVec::default();
@@ -376,6 +381,37 @@ pub fn run_controlled(
 }
 
 /// Each sensor's (deflection, moment, strain per moment) operators on `model`.
+/// The first line of `/events`: what the run holds, so that a viewer opened at the start
+/// shows it.
+fn start_text(resolved: &Resolved, model: &BridgeModel) -> String {
+    let s = &resolved.scenario;
+    let plural = |n: usize, one: &str, many: &str| match n {
+        1 => format!("1 {one}"),
+        n => format!("{n} {many}"),
+    };
+    let traffic = match &s.traffic {
+        Some(t) => format!(
+            ", random traffic on {}",
+            plural(t.lanes.len(), "lane", "lanes")
+        ),
+        None => String::new(),
+    };
+    let scene = match &resolved.scene {
+        Some(scene) => format!("; 3D scene deflections drawn x{}", scene.exaggeration),
+        None => String::new(),
+    };
+    format!(
+        "run starts: {} s simulated; bridge {}, span {} m, f1 = {:.3} Hz; {}, {}; {} listed{traffic}{scene}",
+        resolved.duration_s(),
+        s.bridge.model.label(),
+        s.bridge.span_m,
+        model.frequency_hz(1),
+        plural(s.sensors.len(), "sensor", "sensors"),
+        plural(s.wim_stations.len(), "WIM station", "WIM stations"),
+        plural(resolved.vehicles.len(), "vehicle", "vehicles"),
+    )
+}
+
 fn sensor_operators(
     model: &BridgeModel,
     resolved: &Resolved,

@@ -92,12 +92,15 @@ impl Tracker {
     pub fn axle_states(&self, solver: &CoupledSolver, step: u64) -> Vec<AxleState> {
         let dt_s = self.dt_s;
         let mut out = Vec::new();
-        for v in solver.vehicles.iter().filter(|v| v.is_active()) {
+        // The tracks follow the solver's vehicles one to one (admitted and dropped together).
+        let vehicles = solver.vehicles.iter().zip(&self.tracks);
+        for (v, track) in vehicles.filter(|(v, _)| v.is_active()) {
             for (j, axle) in v.dynamics.axles.iter().enumerate() {
                 let x = v.axle_x_m(j, step, dt_s);
                 out.push(AxleState {
                     vehicle_id: v.id,
                     axle_index: j as u32,
+                    lane: track.lane,
                     position_m: x,
                     force_n: v.contact_force_n[j],
                     static_load_n: axle.static_load_n,

@@ -4,10 +4,12 @@
 use rand::RngExt;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::StandardNormal;
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
-use super::draws::{field, require_duration, truncated_standard_normal, NS_PER_S};
+use super::draws::{field, require_duration, truncated_standard_normal, MAX_SECONDS, NS_PER_S};
 use crate::base::random::fnv1a_64;
+use crate::base::schema as bounds;
 use crate::error::{num, require_finite, require_non_negative, require_positive, Error, Result};
 
 /// Largest accepted oscillator error: a crystal is +/-20-50 ppm (docs/sensors.md section 2), so
@@ -34,20 +36,24 @@ const WORDS_PER_RESYNC: u128 = 16;
 
 /// A DAQ node's clock (`[daq_nodes.clock]`). All fields default to 0 / none: a perfect
 /// clock.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 pub struct ClockSpec {
     /// Node clock minus true time at the run start, s. Default 0.
     pub offset_s: f64,
     /// Oscillator frequency error, ppm, `|drift_ppm| <= 1000`; positive runs fast. Default 0.
+    #[schemars(range(min = -MAX_DRIFT_PPM, max = MAX_DRIFT_PPM))]
     pub drift_ppm: f64,
-    /// RMS of the white sampling-instant jitter, s (normal truncated at 3 sigma), below a
-    /// tenth of the sample period. Default 0.
+    /// RMS of the white sampling-instant jitter, s (normal truncated at 3 sigma), >= 0
+    /// and below a tenth of the sample period. Default 0.
+    #[schemars(range(min = 0))]
     pub jitter_rms_s: f64,
     /// True time between resynchronisations, s, > 0. Default none: free-running.
+    #[schemars(transform = bounds::positive, range(max = MAX_SECONDS))]
     pub resync_interval_s: Option<f64>,
-    /// RMS of the clock error left by each resync, s (e.g. 50e-6 for a wireless network).
-    /// Default 0; requires `resync_interval_s`.
+    /// RMS of the clock error left by each resync, s (e.g. 50e-6 for a wireless network),
+    /// >= 0. Default 0; requires `resync_interval_s`.
+    #[schemars(range(min = 0))]
     pub resync_residual_rms_s: f64,
 }
 
@@ -104,10 +110,11 @@ impl ClockSpec {
 }
 
 /// One DAQ node of a scenario's `[[daq_nodes]]` array: sensors naming it share its clock.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DaqNodeSpec {
     /// Node name, `[A-Za-z0-9_-]+` (it may appear in topic names and stream names).
+    #[schemars(regex(pattern = bounds::TOPIC_SEGMENT))]
     pub id: String,
     /// The node's clock; default a perfect clock.
     #[serde(default)]

@@ -1,76 +1,91 @@
 //! The `[sensors.faults]` table: which faults a channel suffers, and their validation.
 
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
-use super::draws::{field, require_duration, require_probability, seconds_to_ns};
+use super::draws::{field, require_duration, require_probability, seconds_to_ns, MAX_SECONDS};
+use crate::base::schema as bounds;
 use crate::error::{num, require_finite, require_non_negative, require_positive, Error, Result};
 
 /// Packet loss (`loss = { kind = "random", ... }` or `{ kind = "bursty", ... }`).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(remote = "Self", rename_all = "snake_case", deny_unknown_fields)]
+#[schemars(tag = "kind")]
 pub enum LossSpec {
     /// Each sample is lost independently with `probability`.
     Random {
         /// Per-sample loss probability, in [0, 1].
+        #[schemars(range(min = 0, max = 1))]
         probability: f64,
     },
     /// Gilbert-Elliott two-state chain, every sample of the bad state lost: long-run loss
-    /// rate `probability`, mean burst `mean_burst_samples` (see `super::gilbert`).
+    /// rate `probability`, mean burst `mean_burst_samples`.
     Bursty {
         /// Long-run fraction of lost samples, `0 <= p <= B / (1 + B)` for a mean burst `B`
         /// (a good spell lasts at least one sample).
+        #[schemars(range(min = 0, max = 1))]
         probability: f64,
         /// Mean number of consecutive lost samples, >= 1.
+        #[schemars(range(min = 1))]
         mean_burst_samples: f64,
     },
 }
 crate::base::tagged::kind_tagged!(LossSpec);
 
 /// A scheduled outage: every sample with `start_s <= t < start_s + duration_s` is lost.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct OutageWindow {
     /// Start, s since the run start, >= 0.
+    #[schemars(range(min = 0, max = MAX_SECONDS))]
     pub start_s: f64,
     /// Length, s, > 0.
+    #[schemars(transform = bounds::positive, range(max = MAX_SECONDS))]
     pub duration_s: f64,
 }
 
 /// Single-sample spikes of `amplitude` with a random sign, at Poisson instants.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SpikeSpec {
     /// Mean number per hour, >= 0.
+    #[schemars(range(min = 0))]
     pub rate_per_hour: f64,
     /// Size, in the channel's unit, > 0.
+    #[schemars(transform = bounds::positive)]
     pub amplitude: f64,
 }
 
 /// Stuck values: the channel repeats its last good value for an exponential duration.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct StuckSpec {
     /// Mean number of onsets per hour, >= 0.
+    #[schemars(range(min = 0))]
     pub rate_per_hour: f64,
     /// Mean duration, s, > 0.
+    #[schemars(transform = bounds::positive, range(max = MAX_SECONDS))]
     pub mean_duration_s: f64,
 }
 
 /// Offset steps: persistent jumps `N(0, sigma)` added to everything after them.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct OffsetStepSpec {
     /// Mean number per hour, >= 0.
+    #[schemars(range(min = 0))]
     pub rate_per_hour: f64,
     /// Standard deviation of each jump, in the channel's unit, > 0.
+    #[schemars(transform = bounds::positive)]
     pub sigma: f64,
 }
 
 /// The channel dies: from `from_s` on it reports `value` (still subject to loss).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DeadSpec {
     /// Instant of death, s since the run start, >= 0.
+    #[schemars(range(min = 0, max = MAX_SECONDS))]
     pub from_s: f64,
     /// The constant reported, in the channel's unit.
     pub value: f64,
@@ -78,7 +93,7 @@ pub struct DeadSpec {
 
 /// Faults of one sensor channel (`[sensors.faults]`); every part is optional and absent by
 /// default, so the default is a fault-free channel.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(default, deny_unknown_fields)]
 pub struct FaultSpec {
     /// Packet loss. Default none.
@@ -88,10 +103,12 @@ pub struct FaultSpec {
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub outages: Vec<OutageWindow>,
     /// Random outages per hour (Poisson onsets), >= 0. Default 0.
+    #[schemars(range(min = 0))]
     pub outage_rate_per_hour: f64,
-    /// Mean length of a random outage (exponential), s; required when
+    /// Mean length of a random outage (exponential), s, > 0; required when
     /// `outage_rate_per_hour > 0`.
     #[serde(skip_serializing_if = "Option::is_none")]
+    #[schemars(transform = bounds::positive, range(max = MAX_SECONDS))]
     pub outage_mean_duration_s: Option<f64>,
     /// Spikes. Default none.
     #[serde(skip_serializing_if = "Option::is_none")]

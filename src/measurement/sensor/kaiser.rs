@@ -14,7 +14,7 @@
 //! continuous kernel read at arbitrary offsets would carry into every output as a
 //! phase-dependent error (5.8e-6 for 200 Hz out of 1 kHz, the whole error of the phase
 //! interpolation at 512 phases). The shift changes the window by < 1 / I0(beta) and
-//! keeps the design's attenuation (checked in `tests/sensor_chain.rs`).
+//! keeps the design's attenuation (checked in `tests/suite/sensor_chain.rs`).
 //!
 //! The table holds `h` at `P + 1` equally spaced fractional offsets (phases) for the
 //! `2L + 1` samples around an output instant; between phases the weights are interpolated

@@ -16,7 +16,7 @@
 //!   0.5 `fs_out`, 80 dB design ([`AntiAliasOptions`]), evaluated at the exact fractional
 //!   offset of `t_k` from a polyphase table with linear interpolation between phases.
 //!   The kernel is symmetric, so `measured` has zero phase: no group delay in the data.
-//!   Measured (`tests/sensor_chain.rs`): pass band flat to 1.2e-4, stop band >= 82 dB.
+//!   Measured (`tests/suite/sensor_chain.rs`): pass band flat to 1.2e-4, stop band >= 82 dB.
 //! - Truth: cubic Hermite with fourth-order slopes, error `O(dt^4)`: <= 5e-6 relative for a
 //!   30 Hz tone at dt = 1 ms.
 //! - Latency: the value at `t_k` needs the `L` solver samples after it (kernel half-width,

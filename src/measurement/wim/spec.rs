@@ -1,8 +1,10 @@
 //! WIM station configuration as written in a scenario.
 
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 use super::cost323::{Cost323Class, COST323_CLASS_NAMES};
+use crate::base::schema as bounds;
 use crate::base::units::GRAVITY_M_S2;
 use crate::error::{num, require_non_negative, require_positive, Error, Result};
 
@@ -19,31 +21,35 @@ const MAX_NOISE_REL: f64 = 0.5;
 
 /// How a station turns a passing vehicle into a record (`model = { kind = "..." }`).
 /// Default `ideal`.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(remote = "Self", rename_all = "snake_case", deny_unknown_fields)]
+#[schemars(tag = "kind")]
 pub enum WimModelSpec {
     /// The dynamic tyre force at the strip and the true speed, without error.
     #[default]
     Ideal,
     /// Synthetic, unbiased Gaussian errors on the static loads that keep the station in a
-    /// COST 323 accuracy class (`cost323` module).
+    /// COST 323 accuracy class.
     Cost323 {
         /// One of `A(5)`, `B+(7)`, `B(10)`, `C(15)`, `D+(20)`.
+        #[schemars(transform = bounds::one_of(&COST323_CLASS_NAMES))]
         class: String,
-        /// Standard deviation of the relative speed error (spacings follow it); default
-        /// [`DEFAULT_SPEED_SIGMA_REL`].
+        /// Standard deviation of the relative speed error (spacings follow it), in
+        /// [0, 0.1]; default 1 %, a good speed trap.
         #[serde(default = "default_speed_sigma_rel")]
+        #[schemars(range(min = 0, max = MAX_SPEED_SIGMA_REL))]
         speed_sigma_rel: f64,
     },
-    /// The strip reads the simulated dynamic tyre force times `1 + N(0, noise_rel)`
-    /// (`physics` module).
+    /// The strip reads the simulated dynamic tyre force times `1 + N(0, noise_rel)`.
     Physics {
-        /// Relative noise of each axle's force reading; default [`DEFAULT_NOISE_REL`].
+        /// Relative noise of each axle's force reading, in [0, 0.5]; default 2 %, a
+        /// piezo-quartz strip.
         #[serde(default = "default_noise_rel")]
+        #[schemars(range(min = 0, max = MAX_NOISE_REL))]
         noise_rel: f64,
-        /// Standard deviation of the relative speed error; default
-        /// [`DEFAULT_SPEED_SIGMA_REL`].
+        /// Standard deviation of the relative speed error, in [0, 0.1]; default 1 %.
         #[serde(default = "default_speed_sigma_rel")]
+        #[schemars(range(min = 0, max = MAX_SPEED_SIGMA_REL))]
         speed_sigma_rel: f64,
     },
 }
@@ -129,20 +135,23 @@ fn bounded(field: &str, value: f64, max: f64) -> Result<f64> {
 }
 
 /// Thresholds of a station's quality flags, compared with the measured values.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct WimLimits {
     /// Axle load above which the strip is off scale, N; default 30 t (294.3 kN), above
     /// any legal axle (11.5 t in the EU) with room for overloads.
     #[serde(default = "default_axle_capacity_n")]
+    #[schemars(transform = bounds::positive)]
     pub axle_capacity_n: f64,
     /// Gross weight above which the record is off scale, N; default 100 t (981 kN),
     /// exceptional transports only.
     #[serde(default = "default_gross_capacity_n")]
+    #[schemars(transform = bounds::positive)]
     pub gross_capacity_n: f64,
     /// Speed below which the record is flagged low speed, m/s; default 10 km/h: WIM
     /// calibrations hold for free-flowing traffic, stop-and-go readings are unreliable.
     #[serde(default = "default_low_speed_m_s")]
+    #[schemars(range(min = 0))]
     pub low_speed_m_s: f64,
 }
 

@@ -1,7 +1,9 @@
 //! The physical beam: span, flexural rigidity and mass, independent of any discretization.
 
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
+use crate::base::schema as bounds;
 use crate::error::{require_positive, Error, Result};
 
 /// A simply supported Euler-Bernoulli beam.
@@ -24,14 +26,17 @@ pub struct BeamProperties {
 }
 
 /// EI multiplied by `ei_factor` for `start_m <= x <= end_m`.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct StiffnessRegion {
-    /// Start of the region (m from the left support).
+    /// Start of the region (m from the left support), on the span.
+    #[schemars(range(min = 0))]
     pub start_m: f64,
-    /// End of the region (m).
+    /// End of the region (m), after `start_m`, on the span.
+    #[schemars(transform = bounds::positive)]
     pub end_m: f64,
-    /// Factor on EI in the region, in (0, 1] for damage.
+    /// Factor on EI in the region, > 0; in (0, 1] for damage.
+    #[schemars(transform = bounds::positive)]
     pub ei_factor: f64,
 }
 

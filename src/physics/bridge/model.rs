@@ -3,6 +3,7 @@
 //! any x into a load vector and read displacement, slope and moment back at any x.
 
 use nalgebra::{DMatrix, DVector};
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 use super::beam::BeamProperties;
@@ -12,13 +13,19 @@ use super::modes::{generalized_modes, Rayleigh};
 use super::sparse::SparseVec;
 use crate::error::{Error, Result};
 
+/// Most masses, elements or modes a bridge model may have: beyond it the dense solves of
+/// the lumped and modal models take minutes per run.
+pub const MAX_MODEL_SIZE: usize = 5000;
+
 /// Which discretization to build.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(remote = "Self", rename_all = "snake_case", deny_unknown_fields)]
+#[schemars(tag = "kind")]
 pub enum ModelSpec {
     /// N equal lumped masses (the paper's flexibility method).
     LumpedMass {
-        /// Number of interior masses N.
+        /// Number of interior masses N, 1 to 5000.
+        #[schemars(range(min = 1, max = MAX_MODEL_SIZE))]
         nodes: usize,
         /// How K is obtained (default `flexibility` for a uniform beam, else `condensation`).
         #[serde(default)]
@@ -26,22 +33,26 @@ pub enum ModelSpec {
     },
     /// Hermite cubic elements with consistent mass.
     FiniteElement {
-        /// Number of equal elements.
+        /// Number of equal elements, 1 to 5000.
+        #[schemars(range(min = 1, max = MAX_MODEL_SIZE))]
         elements: usize,
     },
     /// The first `modes` modes of a fine finite-element model.
     Modal {
-        /// Modes kept.
+        /// Modes kept, 1 to 5000.
+        #[schemars(range(min = 1, max = MAX_MODEL_SIZE))]
         modes: usize,
-        /// Elements of the underlying FE model (default 4 x modes, at least 40).
+        /// Elements of the underlying FE model, at least 2 x modes (default 4 x modes, at
+        /// least 40).
         #[serde(default)]
+        #[schemars(range(min = 2))]
         elements: Option<usize>,
     },
 }
 crate::base::tagged::kind_tagged!(ModelSpec);
 
 /// Route to the lumped-mass stiffness.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum LumpedStiffness {
     /// Closed-form flexibility when the beam is uniform, condensation otherwise.
@@ -72,11 +83,11 @@ impl ModelSpec {
                 ("modes", *modes, 1)
             }
         };
-        if value < min || value > 5000 {
+        if value < min || value > MAX_MODEL_SIZE {
             return Err(Error::invalid(
                 format!("{path}.{field}"),
                 value,
-                "must be between 1 and 5000",
+                format!("must be between 1 and {MAX_MODEL_SIZE}"),
             ));
         }
         Ok(())

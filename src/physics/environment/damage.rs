@@ -1,21 +1,27 @@
 //! Damage: local EI loss with an onset time and a growth law (`[[damage]]`).
 
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
+use crate::base::schema as bounds;
 use crate::error::{num, require_non_negative, require_positive, Error, Result};
 
 /// One damaged region (`damage.N`): EI over `[start_m, end_m]` loses `reduction` times the
 /// growth law's progress, which goes from 0 before `onset_s` to 1.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DamageSpec {
-    /// Start of the region (m from the left support).
+    /// Start of the region (m from the left support), on the span.
+    #[schemars(range(min = 0))]
     pub start_m: f64,
     /// End of the region (m), after `start_m`, on the span.
+    #[schemars(transform = bounds::positive)]
     pub end_m: f64,
     /// Fraction of EI lost once fully grown, in (0, 1).
+    #[schemars(transform = bounds::positive, transform = bounds::below(1.0))]
     pub reduction: f64,
     /// Simulation time when the damage starts (s), >= 0.
+    #[schemars(range(min = 0))]
     pub onset_s: f64,
     /// How the loss grows after the onset (default `step`: all at once).
     #[serde(default)]
@@ -23,8 +29,9 @@ pub struct DamageSpec {
 }
 
 /// Progress of a damage from 0 to 1 after its onset.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(remote = "Self", rename_all = "snake_case", deny_unknown_fields)]
+#[schemars(tag = "kind")]
 pub enum Growth {
     /// Complete at the onset (a sudden event: impact, bearing failure).
     #[default]
@@ -32,12 +39,14 @@ pub enum Growth {
     /// Linear from 0 at the onset to 1 after `duration_s`.
     Linear {
         /// Time to full damage (s), > 0.
+        #[schemars(transform = bounds::positive)]
         duration_s: f64,
     },
     /// `1 - exp(-(t - onset) / time_constant_s)`: fast then slowing (crack growth
     /// arrested by redistribution, scour reaching equilibrium).
     Exponential {
         /// Time constant (s), > 0; 63.2 % of the loss after one.
+        #[schemars(transform = bounds::positive)]
         time_constant_s: f64,
     },
 }

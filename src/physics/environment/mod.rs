@@ -14,6 +14,7 @@ mod state;
 mod stiffness_law;
 mod temperature;
 
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 pub use csv_series::{TemperatureTable, CSV_HEADER};
@@ -29,22 +30,24 @@ use crate::error::{require_positive, Result};
 use crate::physics::bridge::StiffnessRegion;
 
 /// The scenario's `[environment]` section.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct EnvironmentSpec {
     /// Air temperature (default: constant 20 degC, where E = E_ref by default).
     #[serde(default)]
     pub temperature: TemperatureSpec,
     /// Time constant of the structure temperature behind the air (s) (default 10 800,
-    /// 3 h: an estimate for a concrete deck some 0.3-0.5 m thick).
+    /// 3 h: an estimate for a concrete deck some 0.3-0.5 m thick), > 0.
     #[serde(default = "default_lag_s")]
+    #[schemars(transform = crate::base::schema::positive)]
     pub lag_s: f64,
     /// E(T)/E_ref as a function of the structure temperature (defaults on the type).
     #[serde(default)]
     pub stiffness: TemperatureStiffnessLaw,
-    /// Relative change of any stiffness factor that triggers a model rebuild
-    /// (default 0.002, see [`RebuildPolicy`]).
+    /// Relative change of any stiffness factor that triggers a model rebuild, > 0
+    /// (default 0.002: frequencies then drift by at most 0.1 % between rebuilds).
     #[serde(default = "default_rebuild_threshold_rel")]
+    #[schemars(transform = crate::base::schema::positive)]
     pub rebuild_threshold_rel: f64,
 }
 

@@ -1,5 +1,6 @@
 //! How temperature scales the modulus: the bilinear E(T) seen on the Z24 bridge.
 
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 use crate::error::{require_finite, Error, Result};
@@ -15,7 +16,7 @@ pub const LAW_RANGE_C: (f64, f64) = (-60.0, 70.0);
 /// asphalt and the soil at the abutments stiffen. Since f ~ sqrt(E), a relative change of
 /// E changes f by about half as much. The default slopes are estimates of that shape, not
 /// values fitted to Z24.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct TemperatureStiffnessLaw {
     /// Temperature where E = E_ref, the bridge section's EI (degC) (default 20: the

@@ -6,6 +6,7 @@ use std::path::Path;
 use rand::RngExt;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::StandardNormal;
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 use super::csv_series::TemperatureTable;
@@ -15,8 +16,9 @@ use crate::error::{require_finite, require_non_negative, require_positive, Error
 pub const DAY_S: f64 = 86_400.0;
 
 /// Air temperature of the scenario (`environment.temperature`).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(remote = "Self", rename_all = "snake_case", deny_unknown_fields)]
+#[schemars(tag = "kind")]
 pub enum TemperatureSpec {
     /// The same temperature all the time (the default, 20 degC).
     Constant {
@@ -29,6 +31,7 @@ pub enum TemperatureSpec {
     Csv {
         /// File with the header `time_s,temperature_c`, relative to the scenario file.
         /// `time_s` is simulation time (0 = `start_time`); the end values hold outside.
+        #[schemars(regex(pattern = r"\S"))]
         path: String,
     },
 }
@@ -47,22 +50,26 @@ impl Default for TemperatureSpec {
 pub const DEFAULT_AIR_C: f64 = 20.0;
 
 /// Daily cycle `mean_c + amplitude_c cos(2 pi (hour - peak_hour) / 24) + noise`.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DailySpec {
     /// Daily mean (degC).
     pub mean_c: f64,
     /// Half the peak-to-trough swing (degC), >= 0.
+    #[schemars(range(min = 0))]
     pub amplitude_c: f64,
     /// Hour of the maximum, in [0, 24) (default 15: air peaks mid-afternoon).
     #[serde(default = "default_peak_hour")]
+    #[schemars(range(min = 0), transform = crate::base::schema::below(24.0))]
     pub peak_hour: f64,
     /// Standard deviation of the stationary noise (degC), >= 0 (default 0: none).
     #[serde(default)]
+    #[schemars(range(min = 0))]
     pub noise_sd_c: f64,
-    /// Correlation time of the noise (s) (default 3600: weather fronts and clouds vary
-    /// over hours, not seconds).
+    /// Correlation time of the noise (s), > 0 (default 3600: weather fronts and clouds
+    /// vary over hours, not seconds).
     #[serde(default = "default_noise_correlation_s")]
+    #[schemars(transform = crate::base::schema::positive)]
     pub noise_correlation_s: f64,
 }
 

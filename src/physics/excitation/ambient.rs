@@ -19,6 +19,7 @@ use nalgebra::DVector;
 use rand::RngExt;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::StandardNormal;
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 use super::bandpass::{BandPass, FilterBank};
@@ -40,20 +41,23 @@ const REFERENCE_LENGTH_M: f64 = 1.0;
 const WARMUP_DECAY: f64 = 1e-3;
 
 /// The `[ambient]` table of a scenario.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct AmbientSpec {
     /// Stationary RMS of the vertical acceleration at `reference_position_m` that the
     /// field alone causes (m/s^2), > 0. docs/sensors.md section 1: ambient response of short
     /// road bridges is 1e-5 .. 1e-3 g (1e-4 .. 1e-2 m/s^2).
+    #[schemars(transform = crate::base::schema::positive)]
     pub target_rms_m_s2: f64,
     /// Frequency band of the force `[low, high]` (Hz), `0 < low < high < 1 / (2 dt)`.
     /// Default `[0.5, 30]`: covers the first modes of short and medium spans.
     #[serde(default = "default_band_hz")]
+    #[schemars(transform = crate::base::schema::positive_items)]
     pub band_hz: [f64; 2],
     /// Where the target RMS holds (m from the left support, strictly inside the span).
     /// Default: midspan.
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(transform = crate::base::schema::positive)]
     pub reference_position_m: Option<f64>,
 }
 

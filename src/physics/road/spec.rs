@@ -3,8 +3,10 @@
 //! Plain data with serde derive; every field documents its default. `validate` checks
 //! everything once and names the offending field by its scenario path.
 
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
+use crate::base::schema as bounds;
 use crate::error::{require_finite, require_positive, Error, Result};
 
 /// Reference spatial frequency of ISO 8608, cycle/m.
@@ -31,8 +33,10 @@ pub const TYRE_PATCH_LENGTH_M: f64 = 0.24;
 /// Implementations disagree on the value of `G_d(n0)` that stands for a class: some take
 /// the arithmetic midpoint of the class limits (VBI-2D), others the upper limit. This crate
 /// uses the geometric mean of the class limits (the limits are at half and double the
-/// value), and says so in [`crate::physics::road::RoadProfile::describe`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+/// value), and says so in the description of the road stored with each run.
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize, JsonSchema,
+)]
 pub enum IsoClass {
     A,
     B,
@@ -104,8 +108,9 @@ macro_rules! road_shapes {
         /// A deterministic shape, on its own or added on top of a random profile.
         ///
         /// Shapes are evaluated in closed form (not sampled), so their geometry is exact.
-        #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+        #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
         #[serde(remote = "Self", rename_all = "snake_case", deny_unknown_fields)]
+        #[schemars(tag = "kind")]
         pub enum RoadFeature {
             $( $(#[$shape_doc])* $shape { $( $(#[$field_doc])* $field: f64, )+ }, )+
         }
@@ -148,6 +153,7 @@ road_shapes! {
             /// Road coordinate where the ramp starts, m.
             start_m,
             /// Horizontal length of the ramp, m (> 0).
+            #[schemars(transform = bounds::positive)]
             length_m,
             /// Height reached at the end of the ramp, m.
             height_m,
@@ -159,6 +165,7 @@ road_shapes! {
             /// Road coordinate of the bump's centre (its crest), m.
             position_m,
             /// Length of the bump, m (> 0).
+            #[schemars(transform = bounds::positive)]
             length_m,
             /// Height of the crest, m (negative: a dip).
             height_m,
@@ -167,36 +174,44 @@ road_shapes! {
     /// The road profile of a scenario (`[road] profile = { kind = "iso8608", class = "A" }`).
     ///
     /// Default: `smooth`.
-    #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
+    #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema, Default)]
     #[serde(remote = "Self", rename_all = "snake_case", deny_unknown_fields)]
+    #[schemars(tag = "kind")]
     pub enum RoadProfileSpec {
         before {
             /// A perfectly flat road (elevation 0 everywhere).
             #[default]
             Smooth,
             /// A random ISO 8608 profile, `G_d(n) = G_d(n0) (n / n0)^-2` on `[n1, n2]`, with
-            /// `n0` = 0.1 cycle/m, synthesized by inverse FFT (see `crate::physics::road::RoadProfile`).
+            /// `n0` = 0.1 cycle/m, synthesized by inverse FFT (docs/physics.md section 7).
             Iso8608 {
                 /// Roughness class "A" .. "H" (geometric mean of the class). No default: give
                 /// `class` or `gd_n0_m3`.
                 #[serde(default, skip_serializing_if = "Option::is_none")]
                 class: Option<IsoClass>,
-                /// Explicit `G_d(n0)`, m^3; overrides `class`. Default: none.
+                /// Explicit `G_d(n0)`, m^3, in (0, 1.048576] (twice the upper limit of
+                /// class H); overrides `class`. Default: none.
                 #[serde(default, skip_serializing_if = "Option::is_none")]
+                #[schemars(transform = bounds::positive, range(max = MAX_GD_N0_M3))]
                 gd_n0_m3: Option<f64>,
-                /// Lower band limit, cycle/m. Default 0.01 (100 m wavelength).
+                /// Lower band limit, cycle/m, below `n2_cycles_m`. Default 0.01 (100 m
+                /// wavelength).
                 #[serde(default = "default_n1")]
+                #[schemars(transform = bounds::positive)]
                 n1_cycles_m: f64,
                 /// Upper band limit, cycle/m. Default 4.0 (0.25 m wavelength); must not exceed the
                 /// Nyquist frequency `0.5 / sample_spacing_m`.
                 #[serde(default = "default_n2")]
+                #[schemars(transform = bounds::positive)]
                 n2_cycles_m: f64,
                 /// Length of the tyre-patch moving-average filter, m (Harris, OBrien & Gonzalez
                 /// 2007 use 0.24). Default: none (unfiltered).
                 #[serde(default, skip_serializing_if = "Option::is_none")]
+                #[schemars(transform = bounds::positive)]
                 tyre_patch_filter_m: Option<f64>,
-                /// Spacing of the synthesized samples, m. Default 0.05.
+                /// Spacing of the synthesized samples, m (> 0). Default 0.05.
                 #[serde(default = "default_spacing")]
+                #[schemars(transform = bounds::positive)]
                 sample_spacing_m: f64,
                 /// Deterministic shapes added on top of the random profile (not filtered).
                 /// Default: none.
@@ -210,6 +225,7 @@ road_shapes! {
             Csv {
                 /// Path of the file; relative paths are resolved by the caller (the scenario
                 /// loader resolves them against the scenario file's folder). No default.
+                #[schemars(regex(pattern = r"\S"))]
                 path: String,
             },
         }

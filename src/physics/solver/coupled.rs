@@ -26,7 +26,17 @@ use crate::physics::road::RoadSurface;
 use crate::physics::vehicle::VehicleDynamics;
 
 /// Tyre-road contact law.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    Default,
+    serde::Serialize,
+    serde::Deserialize,
+    schemars::JsonSchema,
+)]
 #[serde(rename_all = "snake_case")]
 pub enum ContactLaw {
     /// The tyre spring may pull (the paper's assumption); tension is counted as contact loss.

@@ -4,6 +4,7 @@
 //! every step costs matrix-vector products and one solve, with no allocation.
 
 use nalgebra::{DMatrix, DVector};
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 use super::linear::{Factor, Operator, Storage};
@@ -11,14 +12,16 @@ use crate::error::{Error, Result};
 
 /// Newmark parameters; the default is the average-acceleration rule (gamma 1/2, beta 1/4):
 /// unconditionally stable, no numerical damping.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct NewmarkParams {
-    /// gamma (default 0.5).
+    /// gamma, in [0.5, 1] (default 0.5; below 0.5 the scheme amplifies).
     #[serde(default = "default_gamma")]
+    #[schemars(range(min = 0.5, max = 1))]
     pub gamma: f64,
-    /// beta (default 0.25).
+    /// beta, in (0, 0.5] (default 0.25).
     #[serde(default = "default_beta")]
+    #[schemars(transform = crate::base::schema::positive, range(max = 0.5))]
     pub beta: f64,
 }
 

@@ -8,8 +8,10 @@
 use rand::RngExt;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::StandardNormal;
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
+use crate::base::schema as bounds;
 use crate::base::units::GRAVITY_M_S2;
 use crate::error::{num, require_non_negative, require_positive, Error, Result};
 
@@ -105,38 +107,53 @@ impl VehicleClass {
 }
 
 /// One normal component of a gross-weight mixture.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct WeightComponent {
     /// Mixture weight, >= 0; the weights of a class are divided by their sum.
+    #[schemars(range(min = 0))]
     pub share: f64,
     /// Mean gross weight, t.
+    #[schemars(transform = bounds::positive)]
     pub mean_t: f64,
     /// Standard deviation, t, >= 0.
+    #[schemars(range(min = 0))]
     pub sd_t: f64,
 }
 
 /// The random model of one class (`[traffic.models.<class>]` replaces a default whole).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ClassModel {
-    /// Gross weight: a mixture of normals (unloaded / loaded populations), t.
+    /// Gross weight: a mixture of normals (unloaded / loaded populations), t; at least
+    /// one component.
+    #[schemars(length(min = 1))]
     pub weight: Vec<WeightComponent>,
-    /// Lower end of the truncation range of the gross weight, t.
+    /// Lower end of the truncation range of the gross weight, t, >= 0.
+    #[schemars(range(min = 0))]
     pub weight_min_t: f64,
-    /// Upper end of the truncation range of the gross weight, t.
+    /// Upper end of the truncation range of the gross weight, t, above `weight_min_t`.
+    #[schemars(transform = bounds::positive)]
     pub weight_max_t: f64,
-    /// Mean of each axle spacing, front to rear, m (one fewer than the axles).
+    /// Mean of each axle spacing, front to rear, m, each > 0 (one fewer than the axles).
+    #[schemars(transform = bounds::positive_items)]
     pub spacing_mean_m: Vec<f64>,
-    /// Standard deviation of each spacing, m; draws are truncated at 3 sd.
+    /// Standard deviation of each spacing, m, each >= 0 and below a third of its mean;
+    /// draws are truncated at 3 sd.
+    #[schemars(inner(range(min = 0)))]
     pub spacing_sd_m: Vec<f64>,
-    /// Mean share of the gross weight on each axle, front to rear; sums to 1.
+    /// Mean share of the gross weight on each axle, front to rear, each > 0; sums to 1.
+    #[schemars(transform = bounds::positive_items)]
     pub load_share: Vec<f64>,
-    /// Relative sd of each axle's share per vehicle (the shares are then renormalised).
+    /// Relative sd of each axle's share per vehicle, in [0, 0.3] (the shares are then
+    /// renormalised).
+    #[schemars(range(min = 0, max = MAX_RELATIVE_SD))]
     pub load_share_sd_rel: f64,
-    /// Body length ahead of the front axle, m.
+    /// Body length ahead of the front axle, m, >= 0.
+    #[schemars(range(min = 0))]
     pub front_overhang_m: f64,
-    /// Body length behind the last axle, m.
+    /// Body length behind the last axle, m, >= 0.
+    #[schemars(range(min = 0))]
     pub rear_overhang_m: f64,
 }
 

@@ -2,9 +2,13 @@
 
 use std::collections::BTreeMap;
 
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
-use super::class::{require_relative_sd, ClassModel, VehicleClass, SHARE_SUM_TOLERANCE};
+use super::class::{
+    require_relative_sd, ClassModel, VehicleClass, MAX_RELATIVE_SD, SHARE_SUM_TOLERANCE,
+};
+use crate::base::schema as bounds;
 use crate::error::{num, require_finite, require_non_negative, require_positive, Error, Result};
 
 /// Hours in the flow profile.
@@ -42,57 +46,85 @@ pub const DEFAULT_MIN_GAP_S: f64 = 1.0;
 pub const DEFAULT_PARAMETER_SD_REL: f64 = 0.1;
 
 /// Random traffic on the bridge (`[traffic]`).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct TrafficSpec {
-    /// The lanes, each with its own flow, direction and speeds; the beam carries them all.
+    /// The lanes, each with its own flow, direction and speeds; the beam carries them
+    /// all. At least one.
+    #[schemars(length(min = 1))]
     pub lanes: Vec<LaneSpec>,
-    /// 24 relative flow factors, hour 0 = midnight to 01:00 local time. They are divided
-    /// by their mean, so each lane's `flow_per_hour` stays its daily mean flow; default
-    /// [`DEFAULT_HOURLY_PROFILE`].
+    /// 24 relative flow factors, each >= 0, hour 0 = midnight to 01:00 local time. They
+    /// are divided by their mean, so each lane's `flow_per_hour` stays its daily mean
+    /// flow; default a weekday with peaks at 08:00 and 16:00-18:00.
     #[serde(default = "default_hourly_profile")]
+    #[schemars(length(equal = HOURS_PER_DAY), inner(range(min = 0)))]
     pub hourly_profile: Vec<f64>,
-    /// Share of each class among all vehicles, >= 0, summing to 1; class names as
-    /// [`VehicleClass::name`]; absent classes have share 0. Default 80 % cars and the
-    /// Auxerre truck split ([`DEFAULT_TRUCK_SPLIT`]). A lane's own `classes` overrides it.
+    /// Share of each class among all vehicles, >= 0, summing to 1, keyed by class name;
+    /// absent classes have share 0. Default 80 % cars and the Auxerre truck split
+    /// (docs/sensors.md section 4). A lane's own `classes` overrides it.
     #[serde(default = "default_class_shares")]
+    #[schemars(transform = class_shares_schema)]
     pub classes: BTreeMap<String, f64>,
     /// Minimum time gap between the rear of a vehicle and the front of the follower on a
-    /// lane, at the follower's speed, s; default [`DEFAULT_MIN_GAP_S`].
+    /// lane, at the follower's speed, s, > 0 (default: about the shortest gaps seen in
+    /// free flow).
     #[serde(default = "default_min_gap_s")]
+    #[schemars(transform = bounds::positive)]
     pub min_gap_s: f64,
     /// Relative sd, in [0, 0.3], of the factors on each vehicle's springs (suspension
     /// and tyres, one factor) and dampers (another), drawn from its `variation_seed`
-    /// (`VehicleDynamics::varied`; the static axle loads do not change); default
-    /// [`DEFAULT_PARAMETER_SD_REL`].
+    /// (the static axle loads do not change).
     #[serde(default = "default_parameter_sd_rel")]
+    #[schemars(range(min = 0, max = MAX_RELATIVE_SD))]
     pub parameter_sd_rel: f64,
-    /// Class models replacing the defaults ([`VehicleClass::default_model`]), whole,
-    /// keyed by class name; default none.
+    /// Class models replacing the built-in ones (docs/sensors.md section 4), whole, keyed
+    /// by class name; default none.
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    #[schemars(transform = bounds::keys_among(class_names()))]
     pub models: BTreeMap<String, ClassModel>,
 }
 
 /// One lane (`[[traffic.lanes]]`).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct LaneSpec {
     /// Direction of travel: 1 = along the beam axis (entering at x = 0), -1 = against it;
     /// default 1.
     #[serde(default = "default_direction")]
+    #[schemars(extend("enum" = [1, -1]))]
     pub direction: i8,
     /// Daily mean flow of all classes, vehicles per hour, >= 0 (0: an empty lane).
+    #[schemars(range(min = 0))]
     pub flow_per_hour: f64,
-    /// Mean speed, m/s; default [`DEFAULT_SPEED_MEAN_M_S`].
+    /// Mean speed, m/s, > 0 (default 89 km/h, Auxerre).
     #[serde(default = "default_speed_mean_m_s")]
+    #[schemars(transform = bounds::positive)]
     pub speed_mean_m_s: f64,
-    /// Speed standard deviation, m/s; draws are truncated at 3 sd, so it must be below
-    /// a third of the mean; default [`DEFAULT_SPEED_SD_M_S`].
+    /// Speed standard deviation, m/s, >= 0; draws are truncated at 3 sd, so it must be
+    /// below a third of the mean (default 3.6 km/h, Auxerre).
     #[serde(default = "default_speed_sd_m_s")]
+    #[schemars(range(min = 0))]
     pub speed_sd_m_s: f64,
     /// Class shares of this lane (as `traffic.classes`); default the global ones.
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(transform = class_shares_schema)]
     pub classes: Option<BTreeMap<String, f64>>,
+}
+
+fn class_names() -> Vec<&'static str> {
+    VehicleClass::ALL.map(VehicleClass::name).to_vec()
+}
+
+/// The schema of a class-share table (`classes = { car = 0.8, ... }`): keys are class
+/// names, shares >= 0 (their sum is checked by `parse_shares`).
+fn class_shares_schema(schema: &mut schemars::Schema) {
+    bounds::keys_among(class_names())(schema);
+    if let Some(share) = schema
+        .get_mut("additionalProperties")
+        .and_then(serde_json::Value::as_object_mut)
+    {
+        share.insert("minimum".into(), 0.into());
+    }
 }
 
 fn default_hourly_profile() -> Vec<f64> {
@@ -155,6 +187,22 @@ impl TrafficSpec {
     /// `traffic.lanes.1.flow_per_hour`) and the value.
     pub fn validate(&self, field_prefix: &str) -> Result<()> {
         self.validated(field_prefix).map(|_| ())
+    }
+
+    /// The largest gross weight this traffic can put on the bridge (t): the top of the
+    /// truncation range of every class with a positive share on a lane with traffic.
+    pub fn heaviest_gross_weight_t(&self, field_prefix: &str) -> Result<f64> {
+        let v = self.validated(field_prefix)?;
+        let present = |class: &VehicleClass| {
+            v.lanes
+                .iter()
+                .any(|lane| lane.flow_per_s > 0.0 && lane.shares[class.index()] > 0.0)
+        };
+        Ok(VehicleClass::ALL
+            .iter()
+            .filter(|c| present(c))
+            .map(|c| v.models[c.index()].weight_max_t)
+            .fold(0.0, f64::max))
     }
 
     pub(crate) fn validated(&self, field_prefix: &str) -> Result<Validated> {

@@ -24,7 +24,7 @@
 //! 0.35 m ahead of the drive axle, trailer CG at 0.68 of kingpin to tridem centre)
 //! moved onto these spacings.
 //!
-//! Modes on a rigid road; `tests/multi_axle.rs` pins them. Body bounce/pitch lie in
+//! Modes on a rigid road; `tests/suite/multi_axle.rs` pins them. Body bounce/pitch lie in
 //! 1-4 Hz (docs/sensors.md section 4) except the light tractor's pitch on its stiff drive axle
 //! (4.96 Hz); axle hop lies in 10-20 Hz except `artic_5axle`'s steer axle (8.85 Hz):
 //! VBI-2D's soft steer suspension on a 700 kg axle gives that.

@@ -25,7 +25,7 @@ macro_rules! pitch_plane_spec {
         }
     ) => {
         $(#[$meta])*
-        #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+        #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize, JsonSchema)]
         #[serde(deny_unknown_fields)]
         pub struct $name {
             $(
@@ -33,20 +33,26 @@ macro_rules! pitch_plane_spec {
                 #[serde(default, skip_serializing_if = "Option::is_none")]
                 pub $field: Option<$ty>,
             )+
-            /// Unsprung mass per axle (kg).
+            // The bounds mirror AXLE_ARRAY_CHECKS.
+            /// Unsprung mass per axle (kg), each > 0.
             #[serde(default, skip_serializing_if = "Option::is_none")]
+            #[schemars(transform = $crate::base::schema::positive_items)]
             pub axle_mass_kg: Option<$axles>,
-            /// Suspension stiffness per axle (N/m).
+            /// Suspension stiffness per axle (N/m), each > 0.
             #[serde(default, skip_serializing_if = "Option::is_none")]
+            #[schemars(transform = $crate::base::schema::positive_items)]
             pub suspension_stiffness_n_m: Option<$axles>,
-            /// Suspension damping per axle (N s/m).
+            /// Suspension damping per axle (N s/m), each >= 0.
             #[serde(default, skip_serializing_if = "Option::is_none")]
+            #[schemars(transform = $crate::base::schema::non_negative_items)]
             pub suspension_damping_n_s_m: Option<$axles>,
-            /// Tyre stiffness per axle, all its tyres together (N/m).
+            /// Tyre stiffness per axle, all its tyres together (N/m), each > 0.
             #[serde(default, skip_serializing_if = "Option::is_none")]
+            #[schemars(transform = $crate::base::schema::positive_items)]
             pub tyre_stiffness_n_m: Option<$axles>,
-            /// Tyre damping per axle, all its tyres together (N s/m).
+            /// Tyre damping per axle, all its tyres together (N s/m), each >= 0.
             #[serde(default, skip_serializing_if = "Option::is_none")]
+            #[schemars(transform = $crate::base::schema::non_negative_items)]
             pub tyre_damping_n_s_m: Option<$axles>,
         }
 

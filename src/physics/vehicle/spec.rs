@@ -1,5 +1,6 @@
 //! Vehicle configuration as written in a scenario, with presets.
 
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 use super::dynamics::VehicleDynamics;
@@ -8,37 +9,57 @@ use super::pitch_plane_spec::{
     named, pitch_plane_spec, positive, preset_or_default, require_within, validated_axles,
 };
 use super::truck_spec::{ArticulatedSpec, RigidTruckSpec};
+use crate::base::schema as bounds;
 use crate::error::{require_non_negative, require_positive, Error, Result};
 
 /// A vehicle model (`kind = "..."` in the scenario).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(remote = "Self", rename_all = "snake_case", deny_unknown_fields)]
+#[schemars(tag = "kind")]
 pub enum VehicleModelSpec {
     /// Constant forces, no dynamics.
     MovingForce {
-        /// Downward axle loads, front first (N).
+        /// Downward axle loads, front first (N), each >= 0; at least one.
+        #[schemars(length(min = 1), inner(range(min = 0)))]
         axle_loads_n: Vec<f64>,
-        /// Distances between consecutive axles (m); one fewer than loads.
+        /// Distances between consecutive axles (m), each > 0; one fewer than loads.
         #[serde(default)]
+        #[schemars(transform = bounds::positive_items)]
         axle_spacing_m: Vec<f64>,
     },
     /// One mass on a spring and dashpot.
     SprungMass {
+        /// Mass (kg).
+        #[schemars(transform = bounds::positive)]
         mass_kg: f64,
+        /// Spring stiffness (N/m).
+        #[schemars(transform = bounds::positive)]
         stiffness_n_m: f64,
-        /// Default 0.
+        /// Dashpot (N s/m), >= 0. Default 0.
         #[serde(default)]
+        #[schemars(range(min = 0))]
         damping_n_s_m: f64,
     },
     /// Body, suspension, axle, tyre.
     QuarterCar {
+        /// Sprung mass (kg).
+        #[schemars(transform = bounds::positive)]
         body_mass_kg: f64,
+        /// Unsprung mass (kg).
+        #[schemars(transform = bounds::positive)]
         axle_mass_kg: f64,
+        /// Suspension spring (N/m).
+        #[schemars(transform = bounds::positive)]
         suspension_stiffness_n_m: f64,
+        /// Suspension damper (N s/m), >= 0.
+        #[schemars(range(min = 0))]
         suspension_damping_n_s_m: f64,
+        /// Tyre spring (N/m).
+        #[schemars(transform = bounds::positive)]
         tyre_stiffness_n_m: f64,
-        /// Default 0.
+        /// Tyre damper (N s/m), >= 0. Default 0.
         #[serde(default)]
+        #[schemars(range(min = 0))]
         tyre_damping_n_s_m: f64,
     },
     /// 4-DOF half car: body bounce and pitch, two axles. A `preset` gives every field;
@@ -57,14 +78,22 @@ pitch_plane_spec! {
     /// Half-car parameters; arrays are (front, rear).
     pub struct HalfCarSpec, axle arrays of [f64; 2] {
         /// `two_axle_truck` or `vbi2d_e01` (docs/physics.md section 6).
+        #[schemars(transform = bounds::named_choices(&HALF_CAR_PRESETS, |name| {
+            HalfCarSpec::preset(name).map(|p| HalfCarSpec { preset: None, ..p })
+        }))]
         pub preset: Option<String>,
         /// Sprung mass (kg), axles excluded.
+        #[schemars(transform = bounds::positive)]
         pub body_mass_kg: Option<f64>,
         /// Pitch moment of inertia of the body about its centre of gravity (kg m^2).
+        #[schemars(transform = bounds::positive)]
         pub pitch_inertia_kg_m2: Option<f64>,
         /// Wheelbase (m).
+        #[schemars(transform = bounds::positive)]
         pub axle_spacing_m: Option<f64>,
-        /// Centre of gravity behind the front axle (m); default mid-wheelbase.
+        /// Centre of gravity behind the front axle (m), between the axles; default
+        /// mid-wheelbase.
+        #[schemars(range(min = 0))]
         pub cg_behind_front_m: Option<f64>,
     }
 }

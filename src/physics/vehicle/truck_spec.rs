@@ -6,6 +6,7 @@
 //! the number of axles, and every per-axle array must then have one entry per axle.
 //! The parameter table with sources and natural frequencies is in `classes.rs`.
 
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 use super::articulated::ArticulatedParams;
@@ -13,20 +14,30 @@ use super::models::{BodyParams, RigidTruckParams};
 use super::pitch_plane_spec::{
     named, pitch_plane_spec, positive, preset_or_default, require_within, required, validated_axles,
 };
+use crate::base::schema as bounds;
 use crate::error::{require_positive, Error, Result};
 
 pitch_plane_spec! {
     /// Rigid truck (or car) parameters: one body (bounce, pitch) on 2-4 axles.
     pub struct RigidTruckSpec, axle arrays of Vec<f64> {
-        /// One of `RIGID_TRUCK_PRESETS`.
+        /// `car`, `truck_2axle`, `truck_3axle` or `truck_4axle` (parameters and sources
+        /// in docs/physics.md section 6).
+        #[schemars(transform = bounds::named_choices(&RIGID_TRUCK_PRESETS, |name| {
+            RigidTruckSpec::preset(name).map(|p| RigidTruckSpec { preset: None, ..p })
+        }))]
         pub preset: Option<String>,
         /// Sprung mass (kg), axles excluded.
+        #[schemars(transform = bounds::positive)]
         pub body_mass_kg: Option<f64>,
         /// Pitch moment of inertia of the body about its centre of gravity (kg m^2).
+        #[schemars(transform = bounds::positive)]
         pub pitch_inertia_kg_m2: Option<f64>,
-        /// Centre of gravity behind the front axle (m); default mid-wheelbase.
+        /// Centre of gravity behind the front axle (m), within the wheelbase; default
+        /// mid-wheelbase.
+        #[schemars(range(min = 0))]
         pub cg_behind_front_m: Option<f64>,
-        /// Distances between consecutive axles (m): 1-3 entries for 2-4 axles.
+        /// Distances between consecutive axles (m), each > 0: 1-3 entries for 2-4 axles.
+        #[schemars(length(min = 1, max = 3), transform = bounds::positive_items)]
         pub axle_spacing_m: Option<Vec<f64>>,
     }
 }
@@ -34,25 +45,37 @@ pitch_plane_spec! {
 pitch_plane_spec! {
     /// Tractor + semi-trailer parameters: two bodies hinged at the fifth wheel.
     pub struct ArticulatedSpec, axle arrays of Vec<f64> {
-        /// One of `ARTICULATED_PRESETS`.
+        /// `artic_5axle` (parameters and sources in docs/physics.md section 6).
+        #[schemars(transform = bounds::named_choices(&ARTICULATED_PRESETS, |name| {
+            ArticulatedSpec::preset(name).map(|p| ArticulatedSpec { preset: None, ..p })
+        }))]
         pub preset: Option<String>,
         /// Tractor sprung mass (kg), axles excluded.
+        #[schemars(transform = bounds::positive)]
         pub tractor_body_mass_kg: Option<f64>,
         /// Tractor pitch moment of inertia about its centre of gravity (kg m^2).
+        #[schemars(transform = bounds::positive)]
         pub tractor_pitch_inertia_kg_m2: Option<f64>,
         /// Tractor centre of gravity behind the front axle (m).
+        #[schemars(range(min = 0))]
         pub tractor_cg_behind_front_m: Option<f64>,
         /// Trailer sprung mass including payload (kg), axles excluded.
+        #[schemars(transform = bounds::positive)]
         pub trailer_body_mass_kg: Option<f64>,
         /// Trailer pitch moment of inertia about its centre of gravity (kg m^2).
+        #[schemars(transform = bounds::positive)]
         pub trailer_pitch_inertia_kg_m2: Option<f64>,
         /// Trailer centre of gravity behind the front axle (m), behind the fifth wheel.
+        #[schemars(range(min = 0))]
         pub trailer_cg_behind_front_m: Option<f64>,
         /// Fifth wheel (kingpin) behind the front axle (m).
+        #[schemars(range(min = 0))]
         pub fifth_wheel_behind_front_m: Option<f64>,
         /// Axles of the tractor (>= 2); the rest (>= 1) are the trailer's. Default 2.
+        #[schemars(range(min = 2))]
         pub tractor_axle_count: Option<usize>,
-        /// Distances between consecutive axles (m), front first.
+        /// Distances between consecutive axles (m), each > 0, front first.
+        #[schemars(length(min = 2), transform = bounds::positive_items)]
         pub axle_spacing_m: Option<Vec<f64>>,
     }
 }

@@ -287,7 +287,7 @@ pub struct ContactTail {
 /// the rest by the integral bound `sum_{n > M} n^-p <= M^(1 - p) / (p - 1)`.
 /// `force_frequency_rad_s` is `w_c`: the fastest frequency at which the contact forces
 /// vary (vehicle modes, the first beam modes). Tested against crossings with more modes in
-/// `tests/analytic_references.rs`.
+/// `tests/suite/analytic_references.rs`.
 pub fn midspan_truncation_bound_m(
     beam: &SimplySupportedBeam,
     n_modes: usize,

@@ -376,13 +376,14 @@ fn tick_labels_are_compact() {
     }
 }
 
-/// Writes the demo chart to $BRIDGETWIN_PLOT_DEMO_DIR (for looking at it); a no-op
-/// otherwise.
+/// Writes the demo chart to $BRIDGETWIN_PLOT_DEMO_DIR, for looking at it (what the chart
+/// must show is checked by `a_chart_shows_its_title_axis_labels_legend_and_reference_line`):
+/// `BRIDGETWIN_PLOT_DEMO_DIR=/tmp/plot cargo test --release --lib demo_figure -- --ignored`.
 #[test]
+#[ignore = "writes a file for a person to look at; needs BRIDGETWIN_PLOT_DEMO_DIR"]
 fn demo_figure() {
-    let Ok(dir) = std::env::var("BRIDGETWIN_PLOT_DEMO_DIR") else {
-        return;
-    };
+    let dir = std::env::var("BRIDGETWIN_PLOT_DEMO_DIR")
+        .expect("BRIDGETWIN_PLOT_DEMO_DIR names the folder for plot_demo.svg");
     let path = std::path::Path::new(&dir).join("plot_demo.svg");
     std::fs::create_dir_all(&dir).unwrap();
     std::fs::write(path, demo_chart().to_svg().unwrap()).unwrap();

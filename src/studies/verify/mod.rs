@@ -1,5 +1,5 @@
 //! The verification ladder: every model checked against closed forms and independent
-//! solutions. `bridgetwin verify` prints these rows; `tests/verification.rs` asserts them.
+//! solutions. `bridgetwin verify` prints these rows; `tests/suite/verification.rs` asserts them.
 //!
 //! Each check explains its tolerance where it is computed: the tolerance is the size of
 //! the error the discretization or the time step is expected to leave, not a fudge.
@@ -11,8 +11,8 @@ mod vbi;
 use serde::Serialize;
 
 pub use beam_checks::{
-    daf_table, frequencies, manufactured_solution, moving_force, newmark_oscillator,
-    static_deflection,
+    daf_table, frequencies, lumped_frequency_error, manufactured_solution, moving_force,
+    newmark_oscillator, static_deflection,
 };
 pub use harness::{manufactured_history, moving_force_history, ManufacturedCase, MovingForceCase};
 pub use vbi::{

@@ -6,6 +6,7 @@
 
 use std::fmt;
 
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
@@ -62,8 +63,9 @@ impl TransducerKind {
     }
 }
 
-/// A sensor type with datasheet-class chain parameters (see [`SensorPreset::parameters`]).
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+/// A sensor type with datasheet-class chain parameters (the table is in docs/sensors.md
+/// section 1.1).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum SensorPreset {
     /// Every stage off: the anti-aliased true response. For all kinds. The default.

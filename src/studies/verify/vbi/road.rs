@@ -26,7 +26,7 @@ pub fn road_profiles() -> Result<Vec<CheckRow>> {
     let mut rows = Vec::new();
     // Relative sd of the mean square of one window of length T of a stationary process
     // with one-sided PSD G ~ n^-2 on [n1, n2] (Gaussian approximation, as in
-    // tests/road_profiles.rs): var = (1/T) int G^2 / (int G)^2
+    // tests/suite/road_profiles.rs): var = (1/T) int G^2 / (int G)^2
     // = (1/3)(n1^-3 - n2^-3) / (T (1/n1 - 1/n2)^2), i.e. 1 / sqrt(3 T n1) = 9.1 %.
     let rel_var_one =
         (n1.powi(-3) - n2.powi(-3)) / (3.0 * length_m * (1.0 / n1 - 1.0 / n2).powi(2));

@@ -157,7 +157,7 @@ pub fn sprung_mass_crossing() -> Result<Vec<CheckRow>> {
                 // truncation bound (< 1e-4, its own row). Measured: peaks <= 3.6e-5,
                 // history rms <= 2.4e-5. The sprung mass's weight as a moving force (a
                 // reference without the interaction) is 9e-4 to 0.22 away from these
-                // peaks, so the rows can tell (tests/verification.rs checks that they do).
+                // peaks, so the rows can tell (tests/suite/verification.rs checks that they do).
                 // With the dashpot on the ramp, the
                 // dashpot force jumps by c v dr/dx at the ramp's two kinks, and a jump
                 // inside a step is integrated by the trapezoidal rule with an impulse

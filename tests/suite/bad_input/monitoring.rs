@@ -1,0 +1,231 @@
+//! Monitoring (sensor chains, DAQ nodes, faults, ambient, WIM models), traffic, and the
+//! bridge's condition (temperature, damage).
+
+use super::harness::{Case, Edit, Edit::Set};
+
+/// Issue 5: sensor presets and chains, DAQ nodes, faults, ambient excitation, WIM models.
+pub(super) fn monitoring_cases() -> Vec<Case> {
+    const LOWNOISE: Edit = Set("sensors.0.preset", "\"mems_lownoise\"");
+    const NODE: Edit = Set(
+        "daq_nodes",
+        "[{ id = \"N1\", clock = { drift_ppm = 20.0 } }]",
+    );
+    vec![
+        Case::edit(
+            "unknown sensor preset",
+            &[Set("sensors.0.preset", "\"mems_fancy\"")],
+            &["unknown variant `mems_fancy`", "mems_lownoise"],
+        ),
+        Case::edit(
+            "accelerometer preset on a strain gauge",
+            &[Set("sensors.7.preset", "\"mems_lownoise\"")],
+            &["sensors.7.preset", "mems_lownoise"],
+        ),
+        Case::edit(
+            "negative chain noise density",
+            &[LOWNOISE, Set("sensors.0.chain.noise_density", "-1.0")],
+            &["sensors.0.chain.noise_density = -1"],
+        ),
+        Case::edit(
+            "rate not supported by the preset",
+            &[
+                Set("solver.dt_s", "0.0001"),
+                LOWNOISE,
+                Set("sensors.0.rate_hz", "5000.0"),
+            ],
+            &["sensors.0.rate_hz = 5000", "mems_lownoise"],
+        ),
+        Case::edit(
+            "ADC with 40 bits",
+            &[
+                LOWNOISE,
+                Set("sensors.0.chain.adc", "{ bits = 40, range = 1.0 }"),
+            ],
+            &["sensors.0.chain.adc.bits = 40"],
+        ),
+        Case::edit(
+            "clock drift beyond 1000 ppm",
+            &[
+                Set(
+                    "daq_nodes",
+                    "[{ id = \"N1\", clock = { drift_ppm = 2000.0 } }]",
+                ),
+                Set("sensors.0.daq_node", "\"N1\""),
+            ],
+            &["daq_nodes.0.clock.drift_ppm = 2000"],
+        ),
+        Case::edit(
+            "sensor on an unknown DAQ node",
+            &[NODE, Set("sensors.0.daq_node", "\"N9\"")],
+            &["sensors.0.daq_node = \"N9\" is not a [[daq_nodes]] id"],
+        ),
+        Case::edit(
+            "clocked sensor at the solver rate",
+            &[
+                NODE,
+                Set("sensors.0.daq_node", "\"N1\""),
+                Set("sensors.0.rate_hz", "1000.0"),
+            ],
+            &["sensors.0.rate_hz = 1000 must be at most half the solver rate"],
+        ),
+        Case::edit(
+            "loss probability above 1",
+            &[Set(
+                "sensors.0.faults",
+                "{ loss = { kind = \"random\", probability = 1.5 } }",
+            )],
+            &["sensors.0.faults.loss.probability = 1.5"],
+        ),
+        Case::edit(
+            "negative spike rate",
+            &[Set(
+                "sensors.0.faults",
+                "{ spikes = { rate_per_hour = -1.0, amplitude = 1.0 } }",
+            )],
+            &["sensors.0.faults.spikes.rate_per_hour = -1"],
+        ),
+        Case::edit(
+            "ambient target negative",
+            &[Set("ambient", "{ target_rms_m_s2 = -1.0 }")],
+            &["ambient.target_rms_m_s2 = -1"],
+        ),
+        Case::edit(
+            "ambient band above the Nyquist frequency",
+            &[Set(
+                "ambient",
+                "{ target_rms_m_s2 = 0.01, band_hz = [1.0, 600.0] }",
+            )],
+            &["ambient.band_hz", "600"],
+        ),
+        Case::edit(
+            "unknown COST 323 class",
+            &[Set(
+                "wim_stations.0.model",
+                "{ kind = \"cost323\", class = \"E(30)\" }",
+            )],
+            &["wim_stations.0.model.class = \"E(30)\"", "B+(7)"],
+        ),
+        Case::edit(
+            "negative WIM noise",
+            &[Set(
+                "wim_stations.0.model",
+                "{ kind = \"physics\", noise_rel = -0.1 }",
+            )],
+            &["wim_stations.0.model.noise_rel = -0.1"],
+        ),
+    ]
+}
+
+/// Issue 6: generated traffic.
+pub(super) fn traffic_cases() -> Vec<Case> {
+    const DURATION: Edit = Set("duration_s", "60.0");
+    vec![
+        Case::edit(
+            "negative lane flow",
+            &[DURATION, Set("traffic", "{ lanes = [{ flow_per_hour = -5.0 }] }")],
+            &["traffic.lanes.0.flow_per_hour = -5"],
+        ),
+        Case::edit(
+            "class shares not summing to 1",
+            &[
+                DURATION,
+                Set(
+                    "traffic",
+                    "{ lanes = [{ flow_per_hour = 100.0 }], classes = { car = 0.5, truck_2axle = 0.2 } }",
+                ),
+            ],
+            &["traffic.classes"],
+        ),
+        Case::edit(
+            "unknown traffic class",
+            &[
+                DURATION,
+                Set(
+                    "traffic",
+                    "{ lanes = [{ flow_per_hour = 100.0 }], classes = { car = 0.5, hovercraft = 0.5 } }",
+                ),
+            ],
+            &["hovercraft"],
+        ),
+        Case::edit(
+            "traffic without a duration",
+            &[Set("traffic", "{ lanes = [{ flow_per_hour = 100.0 }] }")],
+            &["duration_s = (missing) is required with [traffic]"],
+        )
+        .full_duration(),
+        Case::edit(
+            "vehicle direction 2",
+            &[Set("vehicles.0.direction", "2")],
+            &["vehicles.0.direction = 2 must be 1 (towards +x) or -1"],
+        ),
+    ]
+}
+
+/// Issue 6: temperature and damage.
+pub(super) fn condition_cases() -> Vec<Case> {
+    const CSV_AIR: Edit = Set(
+        "environment",
+        "{ temperature = { kind = \"csv\", path = \"air.csv\" } }",
+    );
+    vec![
+        Case::edit(
+            "temperature CSV with a word for a value",
+            &[CSV_AIR],
+            &["air.csv", "line 3", "abc"],
+        )
+        .file("air.csv", b"time_s,temperature_c\n0,20\n60,abc\n"),
+        Case::edit(
+            "temperature CSV with the wrong header",
+            &[CSV_AIR],
+            &["air.csv", "time_s,temperature_c"],
+        )
+        .file("air.csv", b"t,T\n0,20\n60,21\n"),
+        Case::edit(
+            "temperature CSV going back in time",
+            &[CSV_AIR],
+            &["air.csv", "line 4"],
+        )
+        .file("air.csv", b"time_s,temperature_c\n0,20\n60,21\n30,22\n"),
+        Case::edit("temperature CSV missing", &[CSV_AIR], &["air.csv"]),
+        Case::edit(
+            "damage region beyond the span",
+            &[Set(
+                "damage",
+                "[{ start_m = 20.0, end_m = 40.0, reduction = 0.2, onset_s = 0.1 }]",
+            )],
+            &["damage.0.end_m = 40"],
+        ),
+        Case::edit(
+            "damage reduction of 1",
+            &[Set(
+                "damage",
+                "[{ start_m = 10.0, end_m = 12.0, reduction = 1.0, onset_s = 0.1 }]",
+            )],
+            &["damage.0.reduction = 1", "(0, 1)"],
+        ),
+        Case::edit(
+            "damage reduction negative",
+            &[Set(
+                "damage",
+                "[{ start_m = 10.0, end_m = 12.0, reduction = -0.1, onset_s = 0.1 }]",
+            )],
+            &["damage.0.reduction = -0.1"],
+        ),
+        Case::edit(
+            "negative thermal lag",
+            &[Set("environment", "{ lag_s = -3.0 }")],
+            &["environment.lag_s = -3"],
+        ),
+        Case::edit(
+            "damage on a modal model",
+            &[
+                Set("bridge.model", "{ kind = \"modal\", modes = 4 }"),
+                Set(
+                    "damage",
+                    "[{ start_m = 10.0, end_m = 12.0, reduction = 0.2, onset_s = 0.1 }]",
+                ),
+            ],
+            &["bridge.model", "modal"],
+        ),
+    ]
+}

@@ -1,0 +1,72 @@
+//! Setup shared by the themes of the suite: a scenario through the library (parse ->
+//! resolve -> prepare -> run into memory), written once here instead of once per file.
+
+use std::io::Write;
+use std::path::Path;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use bridgetwin::record::RunManifest;
+use bridgetwin::scenario::Scenario;
+use bridgetwin::sim::{prepare, run, Record, RunSummary, VecRecorder};
+
+/// What a run into memory gives.
+pub struct Run {
+    pub records: Vec<Record>,
+    pub summary: RunSummary,
+    pub manifest: RunManifest,
+}
+
+/// Resolves, prepares and runs `scenario` into memory; on failure the error of the stage
+/// that failed, prefixed with it (`resolve: ...`, `prepare: ...`, `run: ...`).
+pub fn try_run(scenario: &Scenario) -> Result<Run, String> {
+    let resolved = scenario.resolve().map_err(|e| format!("resolve: {e}"))?;
+    let prepared = prepare(&resolved).map_err(|e| format!("prepare: {e}"))?;
+    let mut recorder = VecRecorder::default();
+    let summary = run(&resolved, &prepared, &mut recorder, &mut |_, _| {})
+        .map_err(|e| format!("run: {e}"))?;
+    let manifest = recorder
+        .manifest
+        .ok_or_else(|| "run: the recorder was never given the manifest".to_string())?;
+    Ok(Run {
+        records: recorder.records,
+        summary,
+        manifest,
+    })
+}
+
+/// The run of `scenario`; panics with the failing stage's error.
+pub fn run_scenario(scenario: &Scenario) -> Run {
+    try_run(scenario).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// The records of a run of the scenario text `toml`.
+pub fn records_of(toml: &str) -> Vec<Record> {
+    let scenario = Scenario::from_toml(toml, "test").unwrap_or_else(|e| panic!("parse: {e}"));
+    run_scenario(&scenario).records
+}
+
+/// The records of a run of `toml` whose relative paths (road or temperature CSV) are
+/// read from `dir`.
+pub fn records_in(toml: &str, dir: &Path) -> Vec<Record> {
+    let mut scenario = Scenario::from_toml(toml, "test").unwrap_or_else(|e| panic!("parse: {e}"));
+    scenario.resolve_relative_paths(dir);
+    run_scenario(&scenario).records
+}
+
+/// The `bridgetwin` binary cargo built for the suite.
+pub const BIN: &str = env!("CARGO_BIN_EXE_bridgetwin");
+
+/// Checks skipped so far in this run of the suite.
+static SKIPPED: AtomicUsize = AtomicUsize::new(0);
+
+/// Says that a check did not run, and why, where it is seen: written straight to stderr
+/// (the test harness captures `eprintln!` of passing tests, not the stream itself), as
+/// `SKIPPED <what>: <why>`, with the count of skips so far. A skipped check is reported,
+/// never passed silently.
+pub fn skip(what: &str, why: &str) {
+    let count = SKIPPED.fetch_add(1, Ordering::Relaxed) + 1;
+    let _ = writeln!(
+        std::io::stderr(),
+        "SKIPPED {what}: {why} (skip {count} of this run)"
+    );
+}

@@ -1,0 +1,158 @@
+//! The bytes of the default run and of every example (short durations) are pinned: a
+//! refactor must not change what a user's dataset contains. Each hash is the SHA-256 of
+//! the file `bridgetwin simulate` writes.
+//!
+//! When an output change is intended (a new field, a fixed value), update the hash of
+//! every affected row here, in the same commit, and say in its message what changed and
+//! why. History of intended changes:
+//! - the runs of 60 s and more: chunks now close every 60 s of simulated time instead of
+//!   every 2 s of wall time (the messages are the same; only the chunk boundaries moved).
+//! - the block-layout examples (ambient_monitoring, day_of_traffic, hour_of_traffic,
+//!   two_trucks): they now carry the `/preview/...` channels (25 Hz); every other message
+//!   is unchanged.
+//! - the examples with sensors on DAQ node clocks (ambient_monitoring, day_of_traffic,
+//!   hour_of_traffic): the measured preview channels' metadata names the node
+//!   (`daq_node`, `timestamps`); no message changed.
+//! - every run: the 3D scene on `/scene` (on by default at 10 Hz) and a first `/events`
+//!   line saying what the run holds; every other message is unchanged (chunk boundaries
+//!   move with the added bytes).
+//! - every example: its first line is now the `#:schema ../docs/scenario.schema.json`
+//!   directive for TOML editors, and a run stores its source TOML as an attachment, so
+//!   the attachment (and only it) gained that line; the default run is unchanged.
+
+use std::path::Path;
+use std::process::Command;
+
+use sha2::{Digest, Sha256};
+
+/// (scenario in examples/, or "" for the embedded default; simulated seconds, or 0 for
+/// the scenario's own duration; SHA-256 of the output).
+const PINNED: &[(&str, f64, &str)] = &[
+    (
+        "",
+        0.0,
+        "5ad9e87507d81682eedcc01867f9e929933f252250e75abab10a9333b6506944",
+    ),
+    (
+        "ambient_monitoring",
+        20.0,
+        "056f25dd076d49b768f30e78a3b3935b12e6cd66266f889fafe073d96b4cd91c",
+    ),
+    (
+        "ambient_monitoring",
+        120.0,
+        "9e4cb13b3f63fedcb8295a2ed6e423aa66f5db39d01b41ae60c5b6a6779c0586",
+    ),
+    (
+        "damage_onset",
+        20.0,
+        "3c8c64a73597a638fa790662005a3d03dc02022386aeb3bd15e4a258670374e6",
+    ),
+    (
+        "day_of_traffic",
+        20.0,
+        "a02d9d97085aebfdf2a90c5b98c507051e7622e7eed26ae98c34a61121be1a00",
+    ),
+    (
+        "hour_of_traffic",
+        20.0,
+        "9c90c41ec17eaaf5965f5b27609c937899262386578fd737cbb061af69bc1dfa",
+    ),
+    (
+        "hour_of_traffic",
+        60.0,
+        "d384d87eb055c281bbb651e8409cb77a4b78f546164a626296eb7218655ca980",
+    ),
+    (
+        "moving_force",
+        20.0,
+        "9c4076fe1d9a5a3d3b0014dc653d323a2b1bd27b506d785dc66945619b5ea91e",
+    ),
+    (
+        "paper_case",
+        20.0,
+        "008dcf9f5730589c79af647d0a6a534da889eaec06f8e5090ed1035000392ca3",
+    ),
+    (
+        "two_trucks",
+        20.0,
+        "5655e4f15ae6cd300c5c1b06298ed1efbc96d8193908eeeceadfe74a04e55829",
+    ),
+    (
+        "two_trucks",
+        40.0,
+        "5997959e6354fbe525bc2b2be7425164629628cb297634d798d7d5993174ed70",
+    ),
+];
+
+/// The SHA-256 of what `simulate` writes for `example` over `duration_s`.
+fn output_hash(dir: &Path, example: &str, duration_s: f64) -> String {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let out = dir.join(format!(
+        "{}.mcap",
+        if example.is_empty() {
+            "default"
+        } else {
+            example
+        }
+    ));
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_bridgetwin"));
+    // The pins hold for every build: the run records "unknown" for the source revision
+    // instead of the build's, which changes with every commit.
+    cmd.env("BRIDGETWIN_RUN_REVISION", "unknown");
+    cmd.arg("simulate");
+    if !example.is_empty() {
+        cmd.arg(root.join("examples").join(format!("{example}.toml")));
+    }
+    if duration_s > 0.0 {
+        cmd.args(["--duration-s", &duration_s.to_string()]);
+    }
+    cmd.arg("--out").arg(&out).arg("--force");
+    let done = cmd.output().expect("bridgetwin runs");
+    assert!(
+        done.status.success(),
+        "{example}: {}",
+        String::from_utf8_lossy(&done.stderr)
+    );
+    // The hourly examples write `name-0000.mcap`: one part within an hour.
+    let part = dir.join(format!("{example}-0000.mcap"));
+    let written = if part.exists() { part } else { out };
+    let bytes = std::fs::read(&written).expect("output readable");
+    std::fs::remove_file(&written).expect("removable");
+    format!("{:x}", Sha256::digest(&bytes))
+}
+
+#[test]
+fn the_default_run_and_every_example_keep_their_bytes() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut changed = Vec::new();
+    for &(example, duration_s, pinned) in PINNED {
+        let got = output_hash(dir.path(), example, duration_s);
+        if got != pinned {
+            changed.push(format!(
+                "{:?} over {duration_s} s: {got} (pinned {pinned})",
+                example
+            ));
+        }
+    }
+    assert!(
+        changed.is_empty(),
+        "outputs changed (update PINNED only for an intended change):\n{}",
+        changed.join("\n")
+    );
+}
+
+#[test]
+fn every_example_is_pinned() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "toml") {
+            let name = path.file_stem().unwrap().to_string_lossy().into_owned();
+            assert!(
+                PINNED.iter().any(|p| p.0 == name),
+                "examples/{name}.toml has no pinned output hash"
+            );
+        }
+    }
+}
