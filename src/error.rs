@@ -51,6 +51,27 @@ impl Error {
     }
 }
 
+/// The path of item `index` of the scenario list `list`, with the item's id when it has
+/// one: `sensors.2[A1]` (then `.rate_hz` and so on). The index is the TOML position (the
+/// n-th `[[sensors]]` table, from 0), which the dotted path of a parse error also uses;
+/// the id is what a user searches for in the file.
+/// An id that is not a valid topic segment (letters, digits, `_`, `-`) is left out: it is
+/// then the error itself, and the path must not repeat it.
+pub fn item_path(list: &str, index: usize, id: Option<&str>) -> String {
+    match id.filter(|id| is_segment(id)) {
+        Some(id) => format!("{list}.{index}[{id}]"),
+        None => format!("{list}.{index}"),
+    }
+}
+
+/// Whether `id` is a valid id and topic segment: letters, digits, `_` and `-`.
+pub fn is_segment(id: &str) -> bool {
+    !id.is_empty()
+        && id
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
+}
+
 /// `value` for a message: as `Display` (`0.001`, `-3`, `NaN`, `inf`), unless that takes
 /// more than 24 characters (`1e-300` would print 302), then in exponent form (`1e-300`).
 pub fn num(value: f64) -> String {

@@ -16,7 +16,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::base::schema as bounds;
 use crate::base::tagged;
-use crate::error::{Error, Result};
+use crate::error::{item_path, Error, Result};
 use crate::physics::bridge::{BeamProperties, ModelSpec, StiffnessRegion};
 use crate::physics::road::RoadProfileSpec;
 use crate::physics::solver::{ContactLaw, NewmarkParams};
@@ -428,9 +428,14 @@ impl Scenario {
                     .into(),
             });
         }
-        let document = toml::Deserializer::parse(text).map_err(|e| toml_error(source, "", &e))?;
-        serde_path_to_error::deserialize(document)
-            .map_err(|e| toml_error(source, &tagged::dotted(e.path()), e.inner()))
+        let document =
+            toml::Deserializer::parse(text).map_err(|e| toml_error(source, "", &e, None))?;
+        serde_path_to_error::deserialize(document).map_err(|e| {
+            // The text is valid TOML here (only its content is wrong): its tables give the
+            // ids of the listed items the path runs through.
+            let table = toml::from_str::<toml::Table>(text).ok();
+            toml_error(source, &tagged::dotted(e.path()), e.inner(), table.as_ref())
+        })
     }
 
     /// Reads and parses a scenario file, and resolves the relative paths in it (the road
@@ -494,10 +499,19 @@ impl Scenario {
 /// and caret on their own lines. `path` is the dotted path where the error occurred
 /// (`vehicles.0.model`); a `kind`-tagged enum's message carries the rest of it
 /// (`wings`), joined here into `vehicles.0.model.wings`.
-fn toml_error(source: &str, path: &str, error: &toml::de::Error) -> Error {
+fn toml_error(
+    source: &str,
+    path: &str,
+    error: &toml::de::Error,
+    document: Option<&toml::Table>,
+) -> Error {
     let raw_message = error.message().trim_end();
     let (inner_path, message) = tagged::split_path(raw_message);
     let path = tagged::join_path(path, inner_path.unwrap_or(""));
+    let path = match document {
+        Some(table) => with_item_id(&path, table),
+        None => path,
+    };
     // The toml crate prints the location and the caret, then the message: the message
     // goes to the first line, after the path.
     let shown = error.to_string();
@@ -521,6 +535,39 @@ fn toml_error(source: &str, path: &str, error: &toml::de::Error) -> Error {
     }
 }
 
+/// The lists whose items have an `id`, named in error paths by [`item_path`].
+const LISTS_WITH_IDS: [&str; 4] = ["sensors", "daq_nodes", "wim_stations", "vehicles"];
+
+/// `path` with the id of the listed item it starts with, as the resolver's messages name
+/// items: `sensors.2.rate_hz` -> `sensors.2[A1].rate_hz` when `[[sensors]]` number 2 has
+/// `id = "A1"`. Unchanged when the path starts elsewhere or the item has no id.
+fn with_item_id(path: &str, document: &toml::Table) -> String {
+    let mut parts = path.splitn(3, '.');
+    let (Some(list), Some(index)) = (parts.next(), parts.next()) else {
+        return path.to_string();
+    };
+    let Ok(i) = index.parse::<usize>() else {
+        return path.to_string();
+    };
+    if !LISTS_WITH_IDS.contains(&list) {
+        return path.to_string();
+    }
+    let id = document
+        .get(list)
+        .and_then(|items| items.get(i))
+        .and_then(|item| item.get("id"))
+        .and_then(|id| match id {
+            toml::Value::String(s) => Some(s.clone()),
+            toml::Value::Integer(n) => Some(n.to_string()),
+            _ => None,
+        });
+    let head = item_path(list, i, id.as_deref());
+    match parts.next() {
+        Some(rest) => format!("{head}.{rest}"),
+        None => head,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -538,7 +585,7 @@ mod tests {
         assert_ne!(text, DEFAULT_SCENARIO_TOML);
         let msg = parse_error(&text);
         assert!(
-            msg.starts_with("s.toml: vehicles.0.model.wings: unknown field `wings`, expected"),
+            msg.starts_with("s.toml: vehicles.0[1].model.wings: unknown field `wings`, expected"),
             "{msg}"
         );
         // A tagged enum inside a tagged enum (a road feature in an ISO 8608 profile).
@@ -552,6 +599,43 @@ mod tests {
             msg.starts_with(
                 "s.toml: road.profile.features.0.height_m: invalid type: string \"up\", expected f64"
             ),
+            "{msg}"
+        );
+    }
+
+    #[test]
+    fn parse_errors_name_listed_items_by_index_and_id() {
+        // The default's first sensor is A1.
+        let text = DEFAULT_SCENARIO_TOML.replacen("rate_hz = 200.0", "rate_hz = \"fast\"", 1);
+        assert_ne!(text, DEFAULT_SCENARIO_TOML);
+        let msg = parse_error(&text);
+        assert!(
+            msg.starts_with("s.toml: sensors.0[A1].rate_hz: invalid type"),
+            "{msg}"
+        );
+        // Items without an id, and paths outside the lists, keep the plain dotted path.
+        let mut table: toml::Table = toml::from_str(DEFAULT_SCENARIO_TOML).unwrap();
+        let vehicle = table["vehicles"].as_array_mut().unwrap()[0]
+            .as_table_mut()
+            .unwrap();
+        vehicle.remove("id");
+        vehicle.insert("wings".into(), toml::Value::Integer(2));
+        let msg = parse_error(&toml::to_string(&table).unwrap());
+        assert!(
+            msg.starts_with("s.toml: vehicles.0.wings: unknown field"),
+            "{msg}"
+        );
+        vehicle_with_id_is_named(&mut table);
+    }
+
+    fn vehicle_with_id_is_named(table: &mut toml::Table) {
+        let vehicle = table["vehicles"].as_array_mut().unwrap()[0]
+            .as_table_mut()
+            .unwrap();
+        vehicle.insert("id".into(), toml::Value::Integer(7));
+        let msg = parse_error(&toml::to_string(&*table).unwrap());
+        assert!(
+            msg.starts_with("s.toml: vehicles.0[7].wings: unknown field"),
             "{msg}"
         );
     }

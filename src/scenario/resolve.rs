@@ -5,7 +5,9 @@ use std::collections::BTreeSet;
 
 use super::resolved::{Resolved, ResolvedVehicle};
 use super::Scenario;
-use crate::error::{num, require_non_negative, require_positive, Error, Result};
+use crate::error::{
+    is_segment, item_path, num, require_non_negative, require_positive, Error, Result,
+};
 use crate::measurement::wim::WimStation;
 use crate::physics::bridge::{BeamProperties, ModelSpec};
 use crate::physics::solver::NewmarkCoefficients;
@@ -39,19 +41,11 @@ pub(super) fn unique_segment(
     twice: &str,
 ) -> Result<()> {
     let reason = match () {
-        _ if !segment_ok(id) => "must be letters, digits, _ or -",
+        _ if !is_segment(id) => "must be letters, digits, _ or -",
         _ if !ids.insert(id.to_string()) => twice,
         _ => return Ok(()),
     };
     Err(Error::invalid(field, format!("\"{id}\""), reason))
-}
-
-/// Whether `id` is a valid topic segment: letters, digits, `_` and `-`.
-fn segment_ok(id: &str) -> bool {
-    !id.is_empty()
-        && id
-            .chars()
-            .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
 }
 
 /// Steps between two messages of a truth stream at `rate_hz`: must divide the solver rate.
@@ -81,6 +75,13 @@ fn stride(field: &str, rate_hz: f64, dt_ns: u64) -> Result<u64> {
 }
 
 impl Scenario {
+    /// The path of `[[vehicles]]` entry `i` in messages, with its id when the entry sets
+    /// one (`vehicles.0[7]`).
+    pub(super) fn vehicle_path(&self, i: usize) -> String {
+        let id = self.vehicles[i].id.map(|id| id.to_string());
+        item_path("vehicles", i, id.as_deref())
+    }
+
     /// Checks every field and computes the derived values.
     pub fn resolve(&self) -> Result<Resolved> {
         let beam = self.bridge.beam();
@@ -245,18 +246,14 @@ impl Scenario {
         let mut wim_ids = BTreeSet::new();
         let mut stations = Vec::new();
         for (i, w) in self.wim_stations.iter().enumerate() {
-            unique_segment(
-                &mut wim_ids,
-                &format!("wim_stations.{i}.id"),
-                &w.id,
-                "is used twice",
-            )?;
-            let station = WimStation::new(&w.model, &format!("wim_stations.{i}.model"))?
-                .with_limits(w.limits, &format!("wim_stations.{i}.limits"))?;
+            let path = item_path("wim_stations", i, Some(&w.id));
+            unique_segment(&mut wim_ids, &format!("{path}.id"), &w.id, "is used twice")?;
+            let station = WimStation::new(&w.model, &format!("{path}.model"))?
+                .with_limits(w.limits, &format!("{path}.limits"))?;
             let p = w.position_m;
             if !(p.is_finite() && p > -self.road.approach_m && p < 0.0) {
                 return Err(Error::invalid(
-                    format!("wim_stations.{i}.position_m"),
+                    format!("{path}.position_m"),
                     num(p),
                     format!(
                         "must lie on the approach, in (-{}, 0) m",
@@ -349,7 +346,7 @@ impl Scenario {
                     ("speed_m_s", self.vehicles[i].speed_m_s)
                 };
                 Err(Error::invalid(
-                    format!("vehicles.{i}.{field}"),
+                    format!("{}.{field}", self.vehicle_path(i)),
                     num(value),
                     format!(
                         "makes the default duration (until the last vehicle has left the \
@@ -388,7 +385,7 @@ impl Scenario {
         let mut ids = BTreeSet::new();
         let mut out = Vec::new();
         for (i, v) in self.vehicles.iter().enumerate() {
-            let path = format!("vehicles.{i}");
+            let path = self.vehicle_path(i);
             let dynamics = v.model.build(&format!("{path}.model"))?;
             require_positive(&format!("{path}.speed_m_s"), v.speed_m_s)?;
             if v.speed_m_s > MAX_SPEED_M_S {

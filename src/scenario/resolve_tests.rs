@@ -44,13 +44,13 @@ fn sensor_warnings_name_the_sensor() {
     let w = warnings_of(|s| s.sensors[2].rate_hz = 1000.0);
     assert_eq!(w.len(), 1, "{w:#?}");
     assert!(
-        w[0].starts_with("sensors.2.rate_hz = 1000: the time step is coarse"),
+        w[0].starts_with("sensors.2[A3].rate_hz = 1000: the time step is coarse"),
         "{w:#?}"
     );
     let w = warnings_of(|s| s.sensors[4].rate_hz = 5.0);
     assert_eq!(w.len(), 1, "{w:#?}");
     assert!(
-        w[0].starts_with("sensors.4.rate_hz = 5: the recorded band ends at 2 Hz"),
+        w[0].starts_with("sensors.4[A5].rate_hz = 5: the recorded band ends at 2 Hz"),
         "{w:#?}"
     );
 }
@@ -62,7 +62,7 @@ fn a_sensor_on_a_support_is_a_warning_and_one_a_millimetre_off_it_is_not() {
     let id = &Scenario::default_scenario().sensors[0].id;
     assert!(
         w[0].starts_with(&format!(
-            "sensors.0.position_m = 0 (id {id}): on the support at x = 0 m"
+            "sensors.0[{id}].position_m = 0: on the support at x = 0 m"
         )),
         "{w:#?}"
     );
@@ -84,7 +84,7 @@ fn vehicles_outside_the_run_and_other_oddities_are_warnings() {
     assert_eq!(
         w,
         vec![
-            "vehicles.0.entry_time_s = 5 is at or after the end of the run (2 s): \
+            "vehicles.0[1].entry_time_s = 5 is at or after the end of the run (2 s): \
               the vehicle never appears"
                 .to_string()
         ]
@@ -92,7 +92,7 @@ fn vehicles_outside_the_run_and_other_oddities_are_warnings() {
     let w = warnings_of(|s| s.duration_s = Some(0.5));
     assert!(
         w[0].starts_with(
-            "vehicles.0.speed_m_s = 20: the vehicle reaches the bridge at t = 5.000 s"
+            "vehicles.0[1].speed_m_s = 20: the vehicle reaches the bridge at t = 5.000 s"
         ),
         "{w:#?}"
     );
@@ -139,12 +139,12 @@ fn run_length_limits() {
     );
     let msg = error_of(|s| s.vehicles[0].speed_m_s = 1e-5);
     assert!(
-        msg.starts_with("vehicles.0.speed_m_s = 0.00001 makes the default duration"),
+        msg.starts_with("vehicles.0[1].speed_m_s = 0.00001 makes the default duration"),
         "{msg}"
     );
     let msg = error_of(|s| s.vehicles[0].entry_time_s = 1e300);
     assert!(
-        msg.starts_with("vehicles.0.entry_time_s = 1e300 must be at most 30 days"),
+        msg.starts_with("vehicles.0[1].entry_time_s = 1e300 must be at most 30 days"),
         "{msg}"
     );
     let msg = error_of(|s| s.start_time = "9999-12-31T23:59:59Z".into());
@@ -155,12 +155,14 @@ fn run_length_limits() {
 fn sensor_channels_are_checked_before_the_run() {
     let msg = error_of(|s| s.sensors[0].rate_hz = 0.01);
     assert!(
-        msg.starts_with("sensors.0.rate_hz = 0.01 is too far below the solver rate"),
+        msg.starts_with("sensors.0[A1].rate_hz = 0.01 is too far below the solver rate"),
         "{msg}"
     );
     let msg = error_of(|s| s.sensors[1].noise_density = Some(1e308));
     assert!(
-        msg.starts_with("sensors.1.noise_density = 1e308 gives a per-sample noise sigma of inf"),
+        msg.starts_with(
+            "sensors.1[A2].noise_density = 1e308 gives a per-sample noise sigma of inf"
+        ),
         "{msg}"
     );
 }

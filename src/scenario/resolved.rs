@@ -4,7 +4,7 @@
 //! to the time loop and never derived again.
 
 use crate::base::rate::ExactRate;
-use crate::error::num;
+use crate::error::{item_path, num};
 use crate::measurement::daq::{ClockError, NodeClock};
 use crate::measurement::sensor::chain::{RealisedChain, ResolvedChain};
 use crate::measurement::sensor::ChannelDesign;
@@ -171,10 +171,11 @@ impl Resolved {
             let steps = solver_rate_hz / band_edge_hz;
             if steps < MIN_STEPS_PER_SENSOR_PERIOD {
                 out.push(format!(
-                    "sensors.{i}.rate_hz = {}: the time step is coarse for this rate: the \
+                    "{}.rate_hz = {}: the time step is coarse for this rate: the \
                      recorded band reaches {} Hz, which solver.dt_s = {} samples only \
                      {steps:.1} times per period (time-discretization error dominates \
                      there); use dt_s <= {:.3e}",
+                    sensor_path(i, r),
                     num(rate),
                     num(band_edge_hz),
                     num(dt_s),
@@ -186,8 +187,9 @@ impl Resolved {
             }
             if band_edge_hz < f1 {
                 out.push(format!(
-                    "sensors.{i}.rate_hz = {}: the recorded band ends at {} Hz, below the \
+                    "{}.rate_hz = {}: the recorded band ends at {} Hz, below the \
                      first bridge mode f1 = {f1:.3} Hz",
+                    sensor_path(i, r),
                     num(rate),
                     num(band_edge_hz),
                 ));
@@ -199,15 +201,17 @@ impl Resolved {
             let arrives_s = enters_s + s.road.approach_m / v.speed_m_s;
             if enters_s >= duration_s {
                 out.push(format!(
-                    "vehicles.{i}.entry_time_s = {} is at or after the end of the run \
+                    "{}.entry_time_s = {} is at or after the end of the run \
                      ({duration_s} s): the vehicle never appears",
+                    s.vehicle_path(i),
                     num(entry.entry_time_s),
                 ));
             } else if arrives_s >= duration_s {
                 out.push(format!(
-                    "vehicles.{i}.speed_m_s = {}: the vehicle reaches the bridge at t = \
+                    "{}.speed_m_s = {}: the vehicle reaches the bridge at t = \
                      {arrives_s:.3} s (entry_time_s = {}, road.approach_m = {}), after the \
                      end of the run ({duration_s} s)",
+                    s.vehicle_path(i),
                     num(v.speed_m_s),
                     num(entry.entry_time_s),
                     num(s.road.approach_m),
@@ -249,6 +253,11 @@ impl Resolved {
     }
 }
 
+/// The path of sensor `i` in messages: `sensors.2[A1]`.
+fn sensor_path(i: usize, sensor: &ResolvedSensor) -> String {
+    item_path("sensors", i, Some(&sensor.spec.id))
+}
+
 /// A sensor within this distance of a support reads (nearly) nothing: the deflection,
 /// the acceleration and, on a simply supported span, the bending strain vanish there.
 const ON_SUPPORT_M: f64 = 1e-3;
@@ -260,10 +269,10 @@ fn on_a_support(i: usize, sensor: &ResolvedSensor, span_m: f64) -> Option<String
     let support_m = if x < 0.5 * span_m { 0.0 } else { span_m };
     ((x - support_m).abs() <= ON_SUPPORT_M).then(|| {
         format!(
-            "sensors.{i}.position_m = {} (id {}): on the support at x = {} m, where the \
-             bridge does not move and bends nothing: the channel will read zero and noise",
+            "{}.position_m = {}: on the support at x = {} m, where the bridge does not \
+             move and bends nothing: the channel will read zero and noise",
+            sensor_path(i, sensor),
             num(x),
-            sensor.spec.id,
             num(support_m),
         )
     })

@@ -11,7 +11,7 @@ use super::{
     DEFAULT_PREVIEW_RATE_HZ,
 };
 use crate::base::random::child_rng;
-use crate::error::{num, require_non_negative, require_positive, Error, Result};
+use crate::error::{item_path, num, require_non_negative, require_positive, Error, Result};
 use crate::measurement::daq::{ClockError, NodeClock};
 use crate::measurement::sensor::chain::{resolve, RealisedChain, ResolvedChain, TransducerKind};
 use crate::measurement::sensor::{AntiAliasOptions, ChannelDesign};
@@ -35,7 +35,7 @@ impl Scenario {
         let preview_rate_hz = self.preview_rate_hz()?;
         let mut out = Vec::new();
         for (i, s) in self.sensors.iter().enumerate() {
-            let path = format!("sensors.{i}");
+            let path = item_path("sensors", i, Some(&s.id));
             unique_segment(
                 &mut ids,
                 &format!("{path}.id"),
@@ -147,10 +147,11 @@ impl Scenario {
         let mut ids = BTreeSet::new();
         let mut clocks = Vec::new();
         for (i, node) in self.daq_nodes.iter().enumerate() {
-            node.validate(&format!("daq_nodes.{i}"))?;
+            let path = item_path("daq_nodes", i, Some(&node.id));
+            node.validate(&path)?;
             if !ids.insert(node.id.as_str()) {
                 return Err(Error::invalid(
-                    format!("daq_nodes.{i}.id"),
+                    format!("{path}.id"),
                     format!("\"{}\"", node.id),
                     "is used twice (node ids must be unique)",
                 ));
@@ -158,7 +159,7 @@ impl Scenario {
             clocks.push(ClockError::new(
                 &node.clock,
                 node_stream(self.seed, &node.id),
-                &format!("daq_nodes.{i}.clock"),
+                &format!("{path}.clock"),
             )?);
         }
         Ok(clocks)
@@ -171,7 +172,7 @@ impl Scenario {
             &node.clock,
             rate_hz,
             node_stream(self.seed, &node.id),
-            &format!("daq_nodes.{index}.clock"),
+            &format!("{}.clock", item_path("daq_nodes", index, Some(&node.id))),
         )
     }
 
@@ -221,9 +222,9 @@ impl Scenario {
                 ),
             ));
         }
-        self.daq_nodes[index]
-            .clock
-            .validate_for_rate(&format!("daq_nodes.{index}.clock"), s.rate_hz)?;
+        let node = &self.daq_nodes[index];
+        let clock_path = format!("{}.clock", item_path("daq_nodes", index, Some(&node.id)));
+        node.clock.validate_for_rate(&clock_path, s.rate_hz)?;
         Ok(Some(index))
     }
 }

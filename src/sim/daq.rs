@@ -7,6 +7,7 @@
 use std::collections::VecDeque;
 
 use crate::base::random::child_rng;
+use crate::error::item_path;
 use crate::error::Result;
 use crate::measurement::daq::{ClockError, FaultInjector, NodeClock};
 use crate::measurement::sensor::chain::{ClipCounter, TemperatureFn};
@@ -38,7 +39,10 @@ pub(super) fn sensor_channel(
         &sensor.design,
         &noise,
         child_rng(seed, &format!("sensor/{}", sensor.spec.id)),
-        &format!("sensors.{index}.noise"),
+        &format!(
+            "{}.noise",
+            item_path("sensors", index, Some(&sensor.spec.id))
+        ),
     )?;
     let mut clipped = None;
     if let Some(chain) = &sensor.chain {
@@ -70,7 +74,7 @@ pub(super) fn fault_injector(
         spec,
         sensor.spec.rate_hz,
         &mut rng_for,
-        &format!("sensors.{index}.faults"),
+        &format!("{}.faults", item_path("sensors", index, Some(id))),
     )
     .map(Some)
 }

@@ -264,7 +264,7 @@ fn existing_output_is_kept_without_force_and_bad_input_leaves_no_file() {
         .unwrap();
     assert_eq!(r.status.code(), Some(1));
     let err = String::from_utf8_lossy(&r.stderr);
-    assert!(err.contains("sensors.6.position_m = 31"), "{err}");
+    assert!(err.contains("sensors.6[A7].position_m = 31"), "{err}");
     assert!(!target.exists() && !dir.path().join("bad.mcap.partial").exists());
 }
 
@@ -274,17 +274,17 @@ fn scenario_errors_name_the_field() {
         (
             "rate_hz = 200.0\n\n[[sensors]]\nid = \"A2\"",
             "rate_hz = 5000.0\n\n[[sensors]]\nid = \"A2\"",
-            "sensors.0.rate_hz = 5000",
+            "sensors.0[A1].rate_hz = 5000",
         ),
         (
             "id = \"A2\"",
             "id = \"A1\"",
-            "sensors.1.id = \"A1\" is used twice",
+            "sensors.1[A1].id = \"A1\" is used twice",
         ),
         (
             "speed_m_s = 20.0",
             "speed_m_s = -3.0",
-            "vehicles.0.speed_m_s = -3",
+            "vehicles.0[1].speed_m_s = -3",
         ),
         ("span_m = 30.0", "span_m = 0.0", "bridge.span_m = 0"),
         (

@@ -19,12 +19,12 @@ pub(super) fn monitoring_cases() -> Vec<Case> {
         Case::edit(
             "accelerometer preset on a strain gauge",
             &[Set("sensors.7.preset", "\"mems_lownoise\"")],
-            &["sensors.7.preset", "mems_lownoise"],
+            &["sensors.7[S1].preset", "mems_lownoise"],
         ),
         Case::edit(
             "negative chain noise density",
             &[LOWNOISE, Set("sensors.0.chain.noise_density", "-1.0")],
-            &["sensors.0.chain.noise_density = -1"],
+            &["sensors.0[A1].chain.noise_density = -1"],
         ),
         Case::edit(
             "rate not supported by the preset",
@@ -33,7 +33,7 @@ pub(super) fn monitoring_cases() -> Vec<Case> {
                 LOWNOISE,
                 Set("sensors.0.rate_hz", "5000.0"),
             ],
-            &["sensors.0.rate_hz = 5000", "mems_lownoise"],
+            &["sensors.0[A1].rate_hz = 5000", "mems_lownoise"],
         ),
         Case::edit(
             "ADC with 40 bits",
@@ -41,7 +41,7 @@ pub(super) fn monitoring_cases() -> Vec<Case> {
                 LOWNOISE,
                 Set("sensors.0.chain.adc", "{ bits = 40, range = 1.0 }"),
             ],
-            &["sensors.0.chain.adc.bits = 40"],
+            &["sensors.0[A1].chain.adc.bits = 40"],
         ),
         Case::edit(
             "clock drift beyond 1000 ppm",
@@ -52,12 +52,12 @@ pub(super) fn monitoring_cases() -> Vec<Case> {
                 ),
                 Set("sensors.0.daq_node", "\"N1\""),
             ],
-            &["daq_nodes.0.clock.drift_ppm = 2000"],
+            &["daq_nodes.0[N1].clock.drift_ppm = 2000"],
         ),
         Case::edit(
             "sensor on an unknown DAQ node",
             &[NODE, Set("sensors.0.daq_node", "\"N9\"")],
-            &["sensors.0.daq_node = \"N9\" is not a [[daq_nodes]] id"],
+            &["sensors.0[A1].daq_node = \"N9\" is not a [[daq_nodes]] id"],
         ),
         Case::edit(
             "clocked sensor at the solver rate",
@@ -66,7 +66,7 @@ pub(super) fn monitoring_cases() -> Vec<Case> {
                 Set("sensors.0.daq_node", "\"N1\""),
                 Set("sensors.0.rate_hz", "1000.0"),
             ],
-            &["sensors.0.rate_hz = 1000 must be at most half the solver rate"],
+            &["sensors.0[A1].rate_hz = 1000 must be at most half the solver rate"],
         ),
         Case::edit(
             "loss probability above 1",
@@ -74,7 +74,7 @@ pub(super) fn monitoring_cases() -> Vec<Case> {
                 "sensors.0.faults",
                 "{ loss = { kind = \"random\", probability = 1.5 } }",
             )],
-            &["sensors.0.faults.loss.probability = 1.5"],
+            &["sensors.0[A1].faults.loss.probability = 1.5"],
         ),
         Case::edit(
             "negative spike rate",
@@ -82,7 +82,7 @@ pub(super) fn monitoring_cases() -> Vec<Case> {
                 "sensors.0.faults",
                 "{ spikes = { rate_per_hour = -1.0, amplitude = 1.0 } }",
             )],
-            &["sensors.0.faults.spikes.rate_per_hour = -1"],
+            &["sensors.0[A1].faults.spikes.rate_per_hour = -1"],
         ),
         Case::edit(
             "ambient target negative",
@@ -103,7 +103,7 @@ pub(super) fn monitoring_cases() -> Vec<Case> {
                 "wim_stations.0.model",
                 "{ kind = \"cost323\", class = \"E(30)\" }",
             )],
-            &["wim_stations.0.model.class = \"E(30)\"", "B+(7)"],
+            &["wim_stations.0[WIM1].model.class = \"E(30)\"", "B+(7)"],
         ),
         Case::edit(
             "negative WIM noise",
@@ -111,7 +111,7 @@ pub(super) fn monitoring_cases() -> Vec<Case> {
                 "wim_stations.0.model",
                 "{ kind = \"physics\", noise_rel = -0.1 }",
             )],
-            &["wim_stations.0.model.noise_rel = -0.1"],
+            &["wim_stations.0[WIM1].model.noise_rel = -0.1"],
         ),
     ]
 }
@@ -156,7 +156,7 @@ pub(super) fn traffic_cases() -> Vec<Case> {
         Case::edit(
             "vehicle direction 2",
             &[Set("vehicles.0.direction", "2")],
-            &["vehicles.0.direction = 2 must be 1 (towards +x) or -1"],
+            &["vehicles.0[1].direction = 2 must be 1 (towards +x) or -1"],
         ),
     ]
 }

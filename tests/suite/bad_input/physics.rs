@@ -32,8 +32,10 @@ pub(super) fn physics_cases() -> Vec<Case> {
         "duration_s",
     ];
     for path in fields {
+        // Messages name a vehicle by index and id (the default's has id 1).
+        let shown_path = path.replace("vehicles.0.", "vehicles.0[1].");
         for (literal, shown, label) in numbers {
-            let expect = format!("{path} = {shown} ");
+            let expect = format!("{shown_path} = {shown} ");
             let case = Case::edit(
                 &format!("{path} {label}"),
                 &[Set(path, literal)],
@@ -93,17 +95,17 @@ pub(super) fn physics_cases() -> Vec<Case> {
         Case::edit(
             "time step too coarse for the sensor rates",
             &[Set("solver.dt_s", "0.01")],
-            &["sensors.0.rate_hz = 200 must not exceed the solver rate", "solver.dt_s = 0.01"],
+            &["sensors.0[A1].rate_hz = 200 must not exceed the solver rate", "solver.dt_s = 0.01"],
         ),
         Case::edit(
             "speed above 100 m/s",
             &[Set("vehicles.0.speed_m_s", "150.0")],
-            &["vehicles.0.speed_m_s = 150 must be at most 100 m/s"],
+            &["vehicles.0[1].speed_m_s = 150 must be at most 100 m/s"],
         ),
         Case::edit(
             "speed so low that the default duration exceeds 30 days",
             &[Set("vehicles.0.speed_m_s", "1e-5")],
-            &["vehicles.0.speed_m_s = 0.00001 makes the default duration"],
+            &["vehicles.0[1].speed_m_s = 0.00001 makes the default duration"],
         )
         .full_duration(),
         Case::edit(
@@ -132,53 +134,53 @@ pub(super) fn physics_cases() -> Vec<Case> {
         Case::edit(
             "entry time negative",
             &[Set("vehicles.0.entry_time_s", "-1.0")],
-            &["vehicles.0.entry_time_s = -1 "],
+            &["vehicles.0[1].entry_time_s = -1 "],
         ),
         Case::edit(
             "entry time beyond 30 days",
             &[Set("vehicles.0.entry_time_s", "1e300")],
-            &["vehicles.0.entry_time_s = 1e300 must be at most 30 days"],
+            &["vehicles.0[1].entry_time_s = 1e300 must be at most 30 days"],
         ),
         // Sensors.
         Case::edit(
             "sensor beyond the span",
             &[Set("sensors.6.position_m", "31.0")],
-            &["sensors.6.position_m = 31 must lie on the span [0, 30] m"],
+            &["sensors.6[A7].position_m = 31 must lie on the span [0, 30] m"],
         ),
         Case::edit(
             "sensor before the span",
             &[Set("sensors.0.position_m", "-0.5")],
-            &["sensors.0.position_m = -0.5 must lie on the span"],
+            &["sensors.0[A1].position_m = -0.5 must lie on the span"],
         ),
         Case::edit(
             "sensor position NaN",
             &[Set("sensors.2.position_m", "nan")],
-            &["sensors.2.position_m = NaN must lie on the span"],
+            &["sensors.2[A3].position_m = NaN must lie on the span"],
         ),
         Case::edit(
             "sensor rate above the solver rate",
             &[Set("sensors.2.rate_hz", "5000.0")],
-            &["sensors.2.rate_hz = 5000 must not exceed the solver rate 1/dt = 1000 Hz"],
+            &["sensors.2[A3].rate_hz = 5000 must not exceed the solver rate 1/dt = 1000 Hz"],
         ),
         Case::edit(
             "sensor rate zero",
             &[Set("sensors.1.rate_hz", "0.0")],
-            &["sensors.1.rate_hz = 0 must be a finite number > 0"],
+            &["sensors.1[A2].rate_hz = 0 must be a finite number > 0"],
         ),
         Case::edit(
             "sensor rate NaN",
             &[Set("sensors.1.rate_hz", "nan")],
-            &["sensors.1.rate_hz = NaN"],
+            &["sensors.1[A2].rate_hz = NaN"],
         ),
         Case::edit(
             "sensor rate far below the solver rate (anti-alias kernel too long)",
             &[Set("sensors.3.rate_hz", "0.01")],
-            &["sensors.3.rate_hz = 0.01 is too far below the solver rate 1000 Hz"],
+            &["sensors.3[A4].rate_hz = 0.01 is too far below the solver rate 1000 Hz"],
         ),
         Case::edit(
             "duplicate sensor id",
             &[Set("sensors.1.id", "\"A1\"")],
-            &["sensors.1.id = \"A1\" is used twice"],
+            &["sensors.1[A1].id = \"A1\" is used twice"],
         ),
         Case::edit(
             "sensor id with a slash",
@@ -203,38 +205,38 @@ pub(super) fn physics_cases() -> Vec<Case> {
         Case::edit(
             "sensor noise density negative",
             &[Set("sensors.5.noise_density", "-1e-6")],
-            &["sensors.5.noise_density = -0.000001"],
+            &["sensors.5[A6].noise_density = -0.000001"],
         ),
         Case::edit(
             "sensor noise density overflowing",
             &[Set("sensors.5.noise_density", "1e308")],
-            &["sensors.5.noise_density = 1e308 gives a per-sample noise sigma of inf"],
+            &["sensors.5[A6].noise_density = 1e308 gives a per-sample noise sigma of inf"],
         ),
         Case::edit(
             "gauge depth on an accelerometer",
             &[Set("sensors.0.gauge_depth_m", "0.5")],
-            &["sensors.0.gauge_depth_m = 0.5 applies to strain gauges only"],
+            &["sensors.0[A1].gauge_depth_m = 0.5 applies to strain gauges only"],
         ),
         Case::edit(
             "gauge depth negative",
             &[Set("sensors.7.gauge_depth_m", "-0.8")],
-            &["sensors.7.gauge_depth_m = -0.8 "],
+            &["sensors.7[S1].gauge_depth_m = -0.8 "],
         ),
         // WIM stations.
         Case::edit(
             "WIM station on the bridge",
             &[Set("wim_stations.0.position_m", "5.0")],
-            &["wim_stations.0.position_m = 5 must lie on the approach, in (-100, 0) m"],
+            &["wim_stations.0[WIM1].position_m = 5 must lie on the approach, in (-100, 0) m"],
         ),
         Case::edit(
             "WIM station before the approach",
             &[Set("wim_stations.0.position_m", "-150.0")],
-            &["wim_stations.0.position_m = -150 must lie on the approach"],
+            &["wim_stations.0[WIM1].position_m = -150 must lie on the approach"],
         ),
         Case::edit(
             "WIM stations with the same id",
             &[Set("wim_stations.1", "{ id = \"WIM1\", position_m = -50.0 }")],
-            &["wim_stations.1.id = \"WIM1\" is used twice"],
+            &["wim_stations.1[WIM1].id = \"WIM1\" is used twice"],
         ),
         Case::edit(
             "WIM station id with a dot",
@@ -245,27 +247,27 @@ pub(super) fn physics_cases() -> Vec<Case> {
         Case::edit(
             "unknown vehicle preset",
             &[Set("vehicles.0.model.preset", "\"three_axle_truck\"")],
-            &["vehicles.0.model.preset = \"three_axle_truck\" is not a preset"],
+            &["vehicles.0[1].model.preset = \"three_axle_truck\" is not a preset"],
         ),
         Case::edit(
             "preset override negative",
             &[Set("vehicles.0.model.body_mass_kg", "-100.0")],
-            &["vehicles.0.model.body_mass_kg = -100 must be a finite number > 0"],
+            &["vehicles.0[1].model.body_mass_kg = -100 must be a finite number > 0"],
         ),
         Case::edit(
             "preset override pair with a negative entry",
             &[Set("vehicles.0.model.tyre_stiffness_n_m", "[3.0e6, -1.0]")],
-            &["vehicles.0.model.tyre_stiffness_n_m.1 = -1 "],
+            &["vehicles.0[1].model.tyre_stiffness_n_m.1 = -1 "],
         ),
         Case::edit(
             "centre of gravity outside the wheelbase",
             &[Set("vehicles.0.model.cg_behind_front_m", "9.0")],
-            &["vehicles.0.model.cg_behind_front_m = 9 must lie between the axles"],
+            &["vehicles.0[1].model.cg_behind_front_m = 9 must lie between the axles"],
         ),
         Case::edit(
             "half car without preset and fields",
             &[Set("vehicles.0.model", "{ kind = \"half_car\", body_mass_kg = 1000.0 }")],
-            &["vehicles.0.model.pitch_inertia_kg_m2 = (missing)"],
+            &["vehicles.0[1].model.pitch_inertia_kg_m2 = (missing)"],
         ),
         Case::edit(
             "moving force: spacings do not match loads",
@@ -273,7 +275,7 @@ pub(super) fn physics_cases() -> Vec<Case> {
                 "vehicles.0.model",
                 "{ kind = \"moving_force\", axle_loads_n = [1e5, 1e5], axle_spacing_m = [] }",
             )],
-            &["vehicles.0.model.axle_spacing_m = [] must have 1 entries"],
+            &["vehicles.0[1].model.axle_spacing_m = [] must have 1 entries"],
         ),
         Case::edit(
             "moving force: negative load",
@@ -281,7 +283,7 @@ pub(super) fn physics_cases() -> Vec<Case> {
                 "vehicles.0.model",
                 "{ kind = \"moving_force\", axle_loads_n = [-1e5] }",
             )],
-            &["vehicles.0.model.axle_loads_n.0 = -100000 "],
+            &["vehicles.0[1].model.axle_loads_n.0 = -100000 "],
         ),
         Case::edit(
             "two vehicles with the same id",
@@ -289,7 +291,7 @@ pub(super) fn physics_cases() -> Vec<Case> {
                 "vehicles.1",
                 "{ id = 1, model = { kind = \"half_car\", preset = \"vbi2d_e01\" }, speed_m_s = 10.0 }",
             )],
-            &["vehicles.1.id = 1 is used twice"],
+            &["vehicles.1[1].id = 1 is used twice"],
         ),
         // Road.
         Case::edit(

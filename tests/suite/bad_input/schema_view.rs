@@ -221,11 +221,13 @@ pub fn disagreements(cases: &[CaseView<'_>], valid_scenario: &str) -> Vec<String
             )),
             (None, false) => {
                 // The same reason: the CLI's message names what the schema points at.
+                // The CLI names listed items by index and id (`sensors.2[A3]`), the
+                // schema by index alone.
                 let named = paths.iter().any(|p| {
                     let value = offending_value(&json, p);
                     case.expect
                         .iter()
-                        .any(|e| names_error(e, p, value.as_deref()))
+                        .any(|e| names_error(&without_ids(e), p, value.as_deref()))
                 });
                 if !named && !other_words {
                     report.push(format!(
@@ -245,6 +247,28 @@ pub fn disagreements(cases: &[CaseView<'_>], valid_scenario: &str) -> Vec<String
         }
     }
     report
+}
+
+/// `expected` without the ids the CLI adds after a list index: `sensors.2[A3].rate_hz`
+/// -> `sensors.2.rate_hz`.
+fn without_ids(expected: &str) -> String {
+    let mut out = String::with_capacity(expected.len());
+    let mut rest = expected;
+    while let Some(open) = rest.find('[') {
+        let after_index = rest[..open].ends_with(|c: char| c.is_ascii_digit());
+        match rest[open..].find(']') {
+            Some(close) if after_index => {
+                out.push_str(&rest[..open]);
+                rest = &rest[open + close + 1..];
+            }
+            _ => {
+                out.push_str(&rest[..=open]);
+                rest = &rest[open + 1..];
+            }
+        }
+    }
+    out.push_str(rest);
+    out
 }
 
 /// The value at a dotted path of the scenario, as text (`mems_fancy`), if it is a

@@ -44,12 +44,12 @@ pub(super) fn syntax_cases() -> Vec<Case> {
         Case::edit(
             "unknown key in a sensor",
             &[Set("sensors.3.gain", "2.0")],
-            &["scenario.toml: sensors.3.gain: unknown field `gain`"],
+            &["scenario.toml: sensors.3[A4].gain: unknown field `gain`"],
         ),
         Case::edit(
             "unknown key in a vehicle model",
             &[Set("vehicles.0.model.wings", "2")],
-            &["scenario.toml: vehicles.0.model.wings: unknown field `wings`"],
+            &["scenario.toml: vehicles.0[1].model.wings: unknown field `wings`"],
         ),
         Case::edit(
             "unknown key in the road profile",
@@ -74,7 +74,7 @@ pub(super) fn syntax_cases() -> Vec<Case> {
             "wrong type: integer for a string",
             &[Set("sensors.0.id", "7")],
             &[
-                "scenario.toml: sensors.0.id: invalid type: integer `7`, expected a string",
+                "scenario.toml: sensors.0[7].id: invalid type: integer `7`, expected a string",
                 "id = 7",
             ],
         ),
@@ -104,12 +104,12 @@ pub(super) fn syntax_cases() -> Vec<Case> {
         Case::edit(
             "missing field: vehicles[0].speed_m_s",
             &[Remove("vehicles.0.speed_m_s")],
-            &["scenario.toml: vehicles.0: missing field `speed_m_s`"],
+            &["scenario.toml: vehicles.0[1]: missing field `speed_m_s`"],
         ),
         Case::edit(
             "unknown variant: sensor kind",
             &[Set("sensors.0.kind", "\"thermometer\"")],
-            &["scenario.toml: sensors.0.kind: unknown variant `thermometer`"],
+            &["scenario.toml: sensors.0[A1].kind: unknown variant `thermometer`"],
         ),
         Case::edit(
             "unknown variant: contact law",
