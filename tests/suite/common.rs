@@ -5,7 +5,7 @@ use std::io::Write;
 use std::path::Path;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use bridgetwin::record::RunManifest;
+use bridgetwin::record::{Quantities, RunManifest};
 use bridgetwin::scenario::Scenario;
 use bridgetwin::sim::{prepare, run, Record, RunSummary, VecRecorder};
 
@@ -69,4 +69,24 @@ pub fn skip(what: &str, why: &str) {
         std::io::stderr(),
         "SKIPPED {what}: {why} (skip {count} of this run)"
     );
+}
+
+/// (true instant, stamp, measured, truth quantities) of one sensor sample.
+pub type Sample = (u64, i64, Option<f64>, Quantities);
+
+/// The samples of sensor `index`, in record order.
+pub fn sensor_samples(records: &[Record], index: usize) -> Vec<Sample> {
+    records
+        .iter()
+        .filter_map(|r| match r {
+            Record::Sensor {
+                sensor,
+                t_ns,
+                stamp_ns,
+                measured,
+                truth,
+            } if *sensor == index => Some((*t_ns, *stamp_ns, *measured, *truth)),
+            _ => None,
+        })
+        .collect()
 }

@@ -3,10 +3,10 @@
 //! each module (`tests/suite/sensor_presets.rs`, `tests/suite/daq.rs`, `tests/suite/ambient.rs`,
 //! `tests/suite/wim_models.rs`).
 
-use bridgetwin::record::Quantities;
 use bridgetwin::sim::Record;
 
 use crate::common::records_of as records;
+use crate::common::sensor_samples;
 use crate::sensor_presets::{density_standard_error, welch_segments};
 
 /// The paper's bridge (FE 20, dt 1 ms) for `duration_s`.
@@ -24,25 +24,6 @@ model = { kind = "finite_element", elements = 20 }
 [solver]
 dt_s = 0.001
 "#;
-
-/// (true instant, stamp, measured, truth quantities) of sensor `index`.
-type Sample = (u64, i64, Option<f64>, Quantities);
-
-fn samples(records: &[Record], index: usize) -> Vec<Sample> {
-    records
-        .iter()
-        .filter_map(|r| match r {
-            Record::Sensor {
-                sensor,
-                t_ns,
-                stamp_ns,
-                measured,
-                truth,
-            } if *sensor == index => Some((*t_ns, *stamp_ns, *measured, *truth)),
-            _ => None,
-        })
-        .collect()
-}
 
 fn sensor(id: &str, x: f64, extra: &str) -> String {
     format!(
@@ -72,7 +53,10 @@ fn an_idle_bridge_records_the_preset_noise_density_once() {
         sensor("A1", 15.0, "preset = \"mems_lownoise\"")
     );
     let recs = records(&toml);
-    let x: Vec<f64> = samples(&recs, 0).iter().map(|s| s.2.unwrap()).collect();
+    let x: Vec<f64> = sensor_samples(&recs, 0)
+        .iter()
+        .map(|s| s.2.unwrap())
+        .collect();
     let (f, psd) = welch(&x, 200.0, 1024);
     let band: Vec<f64> = f
         .iter()
@@ -112,7 +96,7 @@ fn adding_a_sensor_does_not_change_the_others_numbers() {
     let three = format!("{two}{}", sensor("A0", 5.0, chain));
     let (a, b) = (records(&two), records(&three));
     for index in [0, 1] {
-        let (sa, sb) = (samples(&a, index), samples(&b, index));
+        let (sa, sb) = (sensor_samples(&a, index), sensor_samples(&b, index));
         assert_eq!(sa.len(), 1001);
         // Bit for bit: noise, gain and bias draws, losses, and the ambient load.
         assert!(sa == sb, "sensor {index} changed when a sensor was added");
@@ -140,7 +124,7 @@ fn node_stamps_drift_at_the_configured_ppm_while_the_truth_keeps_true_time() {
         bridge(60.0),
         sensor("A1", 15.0, "daq_node = \"N1\"")
     );
-    let s = samples(&records(&toml), 0);
+    let s = sensor_samples(&records(&toml), 0);
     for (k, sample) in s.iter().enumerate() {
         assert_eq!(sample.1, 5_000_000 * k as i64 + 2_000_000, "stamp {k}");
     }
@@ -182,7 +166,7 @@ fn every_lost_sample_lies_in_a_labelled_fault_and_every_label_is_in_the_file() {
             .iter()
             .any(|(s, e, k)| kinds.contains(k) && *s <= t && e.is_none_or(|e| t < e))
     };
-    let s = samples(&recs, 0);
+    let s = sensor_samples(&recs, 0);
     let lost: Vec<u64> = s.iter().filter(|x| x.2.is_none()).map(|x| x.0).collect();
     assert!(lost.len() > 300, "{} lost", lost.len());
     for t in &lost {
@@ -224,7 +208,7 @@ fn ambient_excitation_reaches_its_target_rms_through_the_whole_run() {
         bridge(300.0),
         sensor("A1", 15.0, "preset = \"ideal\"")
     );
-    let s = samples(&records(&toml), 0);
+    let s = sensor_samples(&records(&toml), 0);
     let a: Vec<f64> = s
         .iter()
         .filter(|x| x.0 > 5_000_000_000)
@@ -299,7 +283,7 @@ fn a_vehicle_in_the_opposite_direction_mirrors_the_response() {
                 _ => None,
             })
             .expect("vehicle truth");
-        (samples(&recs, 0), samples(&recs, 1), times)
+        (sensor_samples(&recs, 0), sensor_samples(&recs, 1), times)
     };
     let (fwd_q1, fwd_q3, fwd_times) = run(1);
     let (rev_q1, rev_q3, rev_times) = run(-1);

@@ -2,10 +2,10 @@
 //! stream decimated by a whole factor, one sample per record, centred on the sensor's own
 //! samples.
 
-use bridgetwin::record::{Quantities, Record, SensorKind};
+use bridgetwin::record::{Record, SensorKind};
 use bridgetwin::scenario::{Layout, Scenario};
 
-use crate::common::run_scenario;
+use crate::common::{run_scenario, sensor_samples};
 
 /// The records of `scenario`.
 fn run_records(scenario: &Scenario) -> (Vec<Record>, bridgetwin::record::RunManifest) {
@@ -19,23 +19,6 @@ fn blocked(duration_s: f64) -> Scenario {
     s.duration_s = Some(duration_s);
     s.output.layout = Layout::Block;
     s
-}
-
-/// (t_ns, stamp_ns, measured, truth) of sensor `i`'s samples.
-fn samples(records: &[Record], i: usize) -> Vec<(u64, i64, Option<f64>, Quantities)> {
-    records
-        .iter()
-        .filter_map(|r| match r {
-            Record::Sensor {
-                sensor,
-                t_ns,
-                stamp_ns,
-                measured,
-                truth,
-            } if *sensor == i => Some((*t_ns, *stamp_ns, *measured, *truth)),
-            _ => None,
-        })
-        .collect()
 }
 
 /// (t_ns, stamp_ns, measured, truth) of sensor `i`'s preview.
@@ -65,7 +48,7 @@ fn previews_are_centred_on_every_mth_sample_and_follow_the_signal() {
         // 200 Hz sensors at the default 25 Hz: every 8th sample.
         assert_eq!(preview.factor, 8, "{}", sensor.id);
         assert_eq!(preview.rate_hz, 25.0);
-        let s = samples(&records, i);
+        let s = sensor_samples(&records, i);
         let p = previews(&records, i);
         let centres: Vec<(u64, i64)> = s.iter().step_by(8).map(|x| (x.0, x.1)).collect();
         let got: Vec<(u64, i64)> = p.iter().map(|x| (x.0, x.1)).collect();
@@ -155,7 +138,7 @@ fn the_sample_layout_has_no_preview_unless_asked_and_zero_turns_it_off() {
     b.output.preview_rate_hz = Some(500.0);
     let (records, manifest) = run_records(&b);
     assert_eq!(manifest.sensors[0].preview.map(|p| p.factor), Some(1));
-    let s0 = samples(&records, 0);
+    let s0 = sensor_samples(&records, 0);
     let p0 = previews(&records, 0);
     assert_eq!(s0.len(), p0.len());
     assert!(s0.iter().zip(&p0).all(|(a, b)| a.0 == b.0 && a.2 == b.2));
