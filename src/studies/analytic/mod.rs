@@ -22,6 +22,8 @@
 //!   multi-axle truck), given by its matrices.
 //! - [`crossing`]: what the modal crossings share, with the bound on their mode-truncation
 //!   error.
+//! - [`stepped_beam`]: exact frequencies of a simply supported beam with piecewise-constant
+//!   EI (local damage), by transfer matrices.
 //! - [`frf`]: steady-state harmonic response of linear MDOF systems to base excitation.
 //! - [`oscillator`]: the exact damped single-degree-of-freedom free response and the
 //!   Newmark average-acceleration period elongation.
@@ -35,6 +37,7 @@ pub mod moving_mass;
 pub mod oscillator;
 pub mod road_irregularity;
 pub mod sprung_mass;
+pub mod stepped_beam;
 pub mod vehicle_crossing;
 
 pub use beam::{ModalDamping, SimplySupportedBeam};
@@ -49,6 +52,7 @@ pub use road_irregularity::RoadIrregularity;
 pub use sprung_mass::{
     SprungMassOptions, SprungMassProblem, SprungMassSample, SprungMassSolution, SprungMassVehicle,
 };
+pub use stepped_beam::{Segment, SteppedBeam};
 pub use vehicle_crossing::{
     LinearVehicle, Tyre, VehicleCrossingOptions, VehicleCrossingProblem, VehicleCrossingSample,
     VehicleCrossingSolution,
