@@ -1,8 +1,9 @@
 //! One pass over the records of an MCAP file that nothing in the file can crash: every
 //! length the file states is checked against what the file can hold before anything is
 //! allocated for it, chunks are checked against their CRC before any record inside them is
-//! handed on, and damage ends the pass with a [`Damage`] that says where the intact part
-//! ends instead of an error that loses what was read.
+//! handed on, the data and summary sections against theirs, and damage ends the pass with
+//! a [`Damage`] that says where the intact part ends instead of an error that loses what
+//! was read.
 //!
 //! The pass is the `mcap` crate's sans-io linear reader: it works the same on a complete
 //! file and on the `.partial` file of a killed run (no summary, last chunk cut short).
@@ -113,6 +114,11 @@ pub fn read_records(
     let mut reader = LinearReader::new_with_options(
         LinearReaderOptions::default()
             .with_prevalidate_chunk_crcs(true)
+            // The data section CRC covers everything outside chunks too (the metadata and
+            // the attachments); the summary CRC the channel and statistics records the
+            // summary repeats. Both are checked when the writer wrote them (non-zero).
+            .with_validate_data_section_crc(true)
+            .with_validate_summary_section_crc(true)
             .with_record_length_limit(record_limit_bytes(file_bytes)),
     );
     let mut read_bytes = 0u64;

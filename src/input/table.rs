@@ -81,6 +81,10 @@ impl Values {
 
     /// Appends `n` placeholder rows (NaN, 0, false, "", empty lists).
     fn pad(&mut self, n: usize) {
+        if n == 0 {
+            // No row: no "" category either.
+            return;
+        }
         match self {
             Values::F64(v) => v.resize(v.len() + n, f64::NAN),
             Values::I64(v) => v.resize(v.len() + n, 0),
