@@ -23,6 +23,7 @@ pub mod app;
 pub mod base;
 pub mod cli;
 pub mod error;
+pub mod input;
 pub mod measurement;
 pub mod output;
 pub mod physics;

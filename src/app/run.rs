@@ -2,10 +2,11 @@
 //! MCAP output. Shared by `simulate`, `sweep` and the benches.
 
 use std::io::{Seek, Write};
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use crate::error::Result;
-use crate::output::{McapRecorder, McapSink};
+use crate::output::{McapRecorder, McapSink, SinkOptions};
 use crate::scenario::Resolved;
 use crate::sim::{Control, Prepared, RunSummary};
 
@@ -59,6 +60,84 @@ pub fn write_run<W: Write + Seek + Send>(
         loop_s: loop_start.elapsed().as_secs_f64(),
         write_s: recorder.write_time.as_secs_f64(),
     })
+}
+
+/// How a run into files ended.
+#[derive(Debug)]
+pub enum FilesOutcome {
+    /// The run ended: its file, or the parts of a split run in time order.
+    Finished {
+        written: Written,
+        paths: Vec<PathBuf>,
+    },
+    /// A stop request ended it: the current file was kept as `.partial`; the parts of a
+    /// split run completed before it keep their final names.
+    Stopped {
+        written: Written,
+        partial: PathBuf,
+        completed_parts: Vec<PathBuf>,
+    },
+}
+
+/// The sink options of a run: `force`, and one file per `output.split_every_s` of
+/// simulated time from the scenario start to its end (the closing instant goes into the
+/// last part).
+pub fn sink_options(resolved: &Resolved, force: bool) -> SinkOptions {
+    let start_ns = resolved.start_time_ns;
+    let duration_ns = resolved.steps.saturating_mul(resolved.dt_ns);
+    SinkOptions {
+        force,
+        // Validated >= 1 s: the rounding to whole ns cannot reach 0.
+        split_every_ns: resolved
+            .scenario
+            .output
+            .split_every_s
+            .map(|every_s| (every_s * 1e9).round() as u64),
+        split_start_ns: start_ns,
+        split_end_ns: Some(start_ns.saturating_add(duration_ns)),
+        ..Default::default()
+    }
+}
+
+/// Runs a resolved scenario into the file `out` (or its hourly parts) as `simulate` does,
+/// with the writer on a second thread: the same bytes whoever calls it (the command line,
+/// the Python package). On an error nothing half-written stays (whole parts completed
+/// before it do, and `completed_parts` of the error's note lists them).
+pub fn run_to_files(
+    resolved: &Resolved,
+    out: &Path,
+    force: bool,
+    control: &mut Control,
+) -> std::result::Result<FilesOutcome, (crate::Error, Vec<PathBuf>)> {
+    let prepared = crate::sim::prepare(resolved).map_err(|e| (e, Vec::new()))?;
+    let mut sink =
+        McapSink::create(out, sink_options(resolved, force)).map_err(|e| (e, Vec::new()))?;
+    match write_run(
+        &mut sink,
+        resolved,
+        &prepared,
+        control,
+        WriterThread::Background,
+    ) {
+        Ok(written) if written.summary.stopped_at_s.is_some() => {
+            let completed_parts = sink.parts().map_err(|e| (e, Vec::new()))?.to_vec();
+            let partial = sink.finish_partial().map_err(|e| (e, Vec::new()))?;
+            Ok(FilesOutcome::Stopped {
+                written,
+                partial,
+                completed_parts,
+            })
+        }
+        Ok(written) => {
+            let paths = sink.finish_parts().map_err(|e| (e, Vec::new()))?;
+            Ok(FilesOutcome::Finished { written, paths })
+        }
+        Err(e) => {
+            let completed_parts = sink.parts().map(<[_]>::to_vec).unwrap_or_default();
+            sink.discard();
+            Err((e, completed_parts))
+        }
+    }
 }
 
 #[cfg(test)]

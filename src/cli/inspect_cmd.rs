@@ -41,7 +41,25 @@ pub fn run(args: &InspectArgs) -> Result<()> {
     } else {
         table::render(&report)
     };
-    write_stdout(&text)
+    write_stdout(&text)?;
+    match report.damage {
+        // The figures above cover the intact part; the exit code says the file is not whole.
+        Some(damage) => Err(Damaged {
+            file: report.file,
+            damage,
+        }
+        .into()),
+        None => Ok(()),
+    }
+}
+
+/// `inspect` read a damaged or cut-short file: it printed what the intact part holds and
+/// exits with 3 (as `tools/read_run.py` does).
+#[derive(Debug, thiserror::Error)]
+#[error("{file} is damaged: {damage}")]
+pub struct Damaged {
+    pub file: String,
+    pub damage: String,
 }
 
 /// Prints `text`; a closed pipe (`inspect run.mcap | head`) is not an error.
@@ -65,6 +83,8 @@ pub struct Report {
     pub has_summary: bool,
     /// What the reader of the numbers should know (no summary, damage, mismatches).
     pub notes: Vec<String>,
+    /// Where the intact part of a damaged or cut-short file ends (`None`: whole).
+    pub damage: Option<String>,
     pub start_time: Option<String>,
     pub end_time: Option<String>,
     pub start_time_ns: Option<u64>,
@@ -157,6 +177,7 @@ pub fn inspect(path: &Path) -> Result<Report> {
         library: header.map(|h| h.library.clone()).unwrap_or_default(),
         has_summary: scan.statistics.is_some(),
         notes: notes(&scan, &channels),
+        damage: scan.stopped.clone(),
         start_time: start_ns.map(iso8601),
         end_time: end_ns.map(iso8601),
         start_time_ns: start_ns,

@@ -2,8 +2,8 @@
 //! module that prints.
 
 mod bench_cmd;
-mod from_mcap;
-mod inspect_cmd;
+pub mod from_mcap;
+pub mod inspect_cmd;
 mod layout_cmd;
 mod run_path;
 mod simulate_cmd;
@@ -31,7 +31,8 @@ pub enum Command {
     /// Print or check scenarios.
     #[command(subcommand)]
     Scenario(ScenarioCommand),
-    /// Summarise a run: channels, counts, rates, metadata, attachments and headline truth.
+    /// Summarise a run: channels, counts, rates, metadata, attachments and headline truth
+    /// (exit code 3 when the file is damaged: the figures cover its intact part).
     Inspect(inspect_cmd::InspectArgs),
     /// Build a Foxglove layout from a run's channels (JSON on stdout, or --out).
     Layout(layout_cmd::LayoutArgs),
@@ -97,7 +98,8 @@ pub enum StudyKind {
 }
 
 /// Parses arguments, runs the command and maps the outcome to an exit code:
-/// 0 ok, 1 error (or failed verification), 2 usage, 130 stopped by SIGINT/SIGTERM.
+/// 0 ok, 1 error (or failed verification), 2 usage, 3 `inspect` read a damaged file (up to
+/// the damage), 130 stopped by SIGINT/SIGTERM.
 pub fn main() -> ExitCode {
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
@@ -146,6 +148,11 @@ pub fn main() -> ExitCode {
             eprintln!("{e:#}");
             // 128 + SIGINT, the shell convention for a run stopped by the user.
             ExitCode::from(130)
+        }
+        Err(e) if e.is::<inspect_cmd::Damaged>() => {
+            eprintln!("error: {e:#}");
+            // Read, but not whole: 3, as tools/read_run.py exits (1 is "nothing read").
+            ExitCode::from(3)
         }
         Err(e) => {
             eprintln!("error: {e:#}");

@@ -5,8 +5,7 @@ use std::time::Instant;
 
 use anyhow::Result;
 
-use crate::app::run::{write_run, WriterThread, Written};
-use crate::output::{McapSink, SinkOptions};
+use crate::app::run::{run_to_files, FilesOutcome, Written};
 use crate::scenario::{Scenario, DEFAULT_SCENARIO_TOML};
 
 /// Arguments of `simulate`.
@@ -98,26 +97,6 @@ fn span(paths: &[PathBuf]) -> String {
     }
 }
 
-/// The sink options of a run: `force`, and one file per `output.split_every_s` of
-/// simulated time from the scenario start to its end (the closing instant goes into the
-/// last part).
-fn sink_options(resolved: &crate::scenario::Resolved, force: bool) -> SinkOptions {
-    let start_ns = resolved.start_time_ns;
-    let duration_ns = resolved.steps.saturating_mul(resolved.dt_ns);
-    SinkOptions {
-        force,
-        // Validated >= 1 s: the rounding to whole ns cannot reach 0.
-        split_every_ns: resolved
-            .scenario
-            .output
-            .split_every_s
-            .map(|every_s| (every_s * 1e9).round() as u64),
-        split_start_ns: start_ns,
-        split_end_ns: Some(start_ns.saturating_add(duration_ns)),
-        ..Default::default()
-    }
-}
-
 /// Runs `simulate`.
 pub fn run(args: &SimulateArgs) -> Result<()> {
     let started = Instant::now();
@@ -141,8 +120,6 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
     resolved.source_toml = original_toml;
     print_warnings(&resolved, args.verbose);
     warn_on_extension(&args.out);
-    let prepared = crate::sim::prepare(&resolved)?;
-    let mut sink = McapSink::create(&args.out, sink_options(&resolved, args.force))?;
     let stop = super::terminal::stop_on_signals()?;
     let bar = match args.quiet {
         true => None,
@@ -163,35 +140,32 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
         progress: &mut progress,
         stop: Some(&stop),
     };
-    let outcome = write_run(
-        &mut sink,
-        &resolved,
-        &prepared,
-        &mut control,
-        WriterThread::Background,
-    );
+    let outcome = run_to_files(&resolved, &args.out, args.force, &mut control);
     if let Some(b) = bar {
         b.finish_and_clear();
     }
-    match outcome.map_err(anyhow::Error::from) {
-        Ok(Written { summary, .. }) if summary.stopped_at_s.is_some() => {
-            let completed_parts = sink.parts()?.to_vec();
-            let partial = sink.finish_partial()?;
-            Err(Interrupted {
-                stopped_at_s: summary.stopped_at_s.unwrap_or(0.0),
-                partial: partial.display().to_string(),
-                completed_parts,
-            }
-            .into())
+    match outcome {
+        Ok(FilesOutcome::Stopped {
+            written,
+            partial,
+            completed_parts,
+        }) => Err(Interrupted {
+            stopped_at_s: written.summary.stopped_at_s.unwrap_or(0.0),
+            partial: partial.display().to_string(),
+            completed_parts,
         }
-        Ok(Written {
-            summary,
-            messages,
-            loop_s,
-            write_s,
+        .into()),
+        Ok(FilesOutcome::Finished {
+            written:
+                Written {
+                    summary,
+                    messages,
+                    loop_s,
+                    write_s,
+                },
+            paths,
         }) => {
             let split = resolved.scenario.output.split_every_s.is_some();
-            let paths = sink.finish_parts()?;
             let bytes: u64 = paths
                 .iter()
                 .map(|path| std::fs::metadata(path).map_or(0, |m| m.len()))
@@ -218,9 +192,7 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
             }
             Ok(())
         }
-        Err(e) => {
-            let completed_parts = sink.parts().map(<[_]>::to_vec).unwrap_or_default();
-            sink.discard();
+        Err((e, completed_parts)) => {
             if !completed_parts.is_empty() {
                 // They are whole, valid files: say so rather than leave them unexplained.
                 eprintln!(
@@ -229,7 +201,7 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
                     span(&completed_parts)
                 );
             }
-            Err(e)
+            Err(e.into())
         }
     }
 }

@@ -37,10 +37,17 @@ fn simulate(dir: &Path, name: &str, scenario: Option<&Path>, extra: &[&str]) -> 
 
 /// `inspect FILE --json`, which must succeed.
 fn inspect_json(file: &Path) -> Value {
+    inspect_json_exiting(file, 0)
+}
+
+/// `inspect FILE --json` on a file that must exit `code` (3: damaged, read up to the
+/// damage) and still print its report.
+fn inspect_json_exiting(file: &Path, code: i32) -> Value {
     let o = run(&["inspect", file.to_str().unwrap(), "--json"]);
-    assert!(
-        o.status.success(),
-        "inspect failed: {}",
+    assert_eq!(
+        o.status.code(),
+        Some(code),
+        "inspect: {}",
         String::from_utf8_lossy(&o.stderr)
     );
     serde_json::from_slice(&o.stdout).expect("inspect --json prints one JSON object")
@@ -213,7 +220,8 @@ fn a_truncated_file_is_inspected_by_a_linear_scan() {
     let bytes = std::fs::read(&file).unwrap();
     let cut = dir.path().join("cut.mcap");
     std::fs::write(&cut, &bytes[..bytes.len() - 1000]).unwrap();
-    let report = inspect_json(&cut);
+    let report = inspect_json_exiting(&cut, 3);
+    assert!(report["damage"].as_str().unwrap().contains("cut short"));
     assert_eq!(report["has_summary"], Value::Bool(false));
     assert!(!report["notes"].as_array().unwrap().is_empty());
     let messages = report["message_count"].as_u64().unwrap();
@@ -223,7 +231,7 @@ fn a_truncated_file_is_inspected_by_a_linear_scan() {
     // A run killed early: the file ends inside its only chunk, with no summary at all.
     let killed = dir.path().join("killed.mcap.partial");
     std::fs::write(&killed, &bytes[..bytes.len() / 2]).unwrap();
-    let report = inspect_json(&killed);
+    let report = inspect_json_exiting(&killed, 3);
     let notes = report["notes"].to_string();
     assert!(notes.contains("no summary section"), "{notes}");
     let messages = report["message_count"].as_u64().unwrap();

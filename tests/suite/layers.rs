@@ -18,13 +18,15 @@ const ORDER: &[&str] = &[
     "scenario",
     "sim",
     "output",
+    "input",
     "app",
     "studies",
     "cli",
 ];
 
 /// (layer, lower layer) pairs that stay apart: physics emits no records, measurement
-/// takes plain numbers from physics, and the output sees records and the manifest only.
+/// takes plain numbers from physics, the output sees records and the manifest only, and
+/// the input (runs read back) sees the file format alone.
 const APART: &[(&str, &str)] = &[
     ("physics", "record"),
     ("measurement", "physics"),
@@ -32,6 +34,10 @@ const APART: &[(&str, &str)] = &[
     ("output", "measurement"),
     ("output", "scenario"),
     ("output", "sim"),
+    ("input", "physics"),
+    ("input", "measurement"),
+    ("input", "scenario"),
+    ("input", "sim"),
 ];
 
 /// Each layer and the layers it may use.

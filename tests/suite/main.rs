@@ -12,6 +12,7 @@ mod bad_input;
 mod bench_cmd;
 mod common;
 mod console;
+mod damaged_files;
 mod daq;
 mod determinism;
 mod dlc_study;

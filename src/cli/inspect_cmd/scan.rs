@@ -1,5 +1,6 @@
-//! One streaming pass over an MCAP file, in file order, through the `mcap` crate's sans-io
-//! reader, which decompresses chunks as it goes. Memory is bounded by one chunk however long
+//! One streaming pass over an MCAP file, in file order, through the input layer's guarded
+//! pass (`crate::input::read_records`: the `mcap` crate's sans-io reader with every length
+//! checked against the file), which decompresses chunks as it goes. Memory is bounded by one chunk however long
 //! the run, and the same pass serves a complete file and one without a summary (a killed
 //! run's `.partial`, whose last chunk is cut short: the messages before the cut are still
 //! read). The summary only adds the writer's own statistics.
@@ -8,13 +9,12 @@
 //! pass is needed anyway; reading the summary first would only add a second pass.
 
 use std::collections::{BTreeMap, HashMap};
-use std::fs::File;
-use std::io::{BufReader, ErrorKind, Read};
 use std::path::Path;
 
-use anyhow::{bail, Context, Result};
+use anyhow::{bail, Result};
 use mcap::records::{Channel, Header, MessageHeader, Metadata, Record, Statistics};
-use mcap::sans_io::{LinearReadEvent, LinearReader, LinearReaderOptions};
+
+use crate::input::{read_records, Flow};
 
 use super::truth::{BlockStats, TruthScan};
 
@@ -67,32 +67,18 @@ pub(super) struct Scan {
     after_message_index: bool,
 }
 
-/// Reads `path` from start to end. Fails only when nothing MCAP-like could be read (missing
-/// file, I/O error, bad magic); damage after the header ends the pass with `stopped` set.
+/// Reads `path` from start to end through the input layer's guarded pass (no length in the
+/// file can make it allocate more than the file holds; chunk CRCs checked first). Fails
+/// only when nothing MCAP-like could be read (missing file, I/O error, bad magic); damage
+/// after the header ends the pass with `stopped` set to where the intact part ends.
 pub(super) fn scan_file(path: &Path) -> Result<Scan> {
-    let file = File::open(path).with_context(|| format!("opening {}", path.display()))?;
-    let mut source = BufReader::with_capacity(1 << 20, file);
-    let mut reader = LinearReader::new_with_options(
-        LinearReaderOptions::default().with_validate_chunk_crcs(true),
-    );
     let mut scan = Scan::default();
-    while let Some(event) = reader.next_event() {
-        let outcome = match event {
-            Ok(LinearReadEvent::ReadRequest(want)) => {
-                let got = read_some(&mut source, reader.insert(want))
-                    .with_context(|| format!("reading {}", path.display()))?;
-                reader.notify_read(got);
-                Ok(())
-            }
-            Ok(LinearReadEvent::Record { opcode, data }) => {
-                mcap::parse_record(opcode, data).map(|record| scan.record(record))
-            }
-            Err(e) => Err(e),
-        };
-        if let Err(e) = outcome {
-            scan.stopped = Some(e.to_string());
-            break;
-        }
+    let pass = read_records(path, |record| {
+        scan.record(record);
+        Ok(Flow::Continue)
+    })?;
+    if let Some(damage) = pass.damage() {
+        scan.stopped = Some(damage.to_string());
     }
     if scan.header.is_none() {
         let why = scan.stopped.as_deref().unwrap_or("no header record");
@@ -103,16 +89,6 @@ pub(super) fn scan_file(path: &Path) -> Result<Scan> {
         scan.summary_cut_short = scan.statistics.take().is_some();
     }
     Ok(scan)
-}
-
-/// `read` that retries when interrupted by a signal.
-fn read_some(source: &mut impl Read, buf: &mut [u8]) -> std::io::Result<usize> {
-    loop {
-        match source.read(buf) {
-            Err(e) if e.kind() == ErrorKind::Interrupted => continue,
-            other => return other,
-        }
-    }
 }
 
 impl Scan {

@@ -1,0 +1,426 @@
+//! Messages of the output contract to table rows, one decoder per schema (the generated
+//! protobuf types, so a field renamed in `schemas/` fails to compile here instead of
+//! silently vanishing). Column names are those `tools/read_run.py` documents: every field
+//! by its name (the unit is part of it), a Timestamp `x` as `x_ns`, a map as `name.key`,
+//! repeated messages one row per element under `field.name`, and block messages one row
+//! per sample, named like the per-sample messages.
+
+use prost::Message;
+
+use super::table::TableBuilder;
+use crate::output::proto::foxglove::Log;
+use crate::output::proto::v1::{
+    AccelerationSample, AxleLoads, BridgeState, DisplacementSample, FaultInterval, SampleBlock,
+    SensorTruth, SensorTruthBlock, StrainSample, VehicleTruth, WimRecord,
+};
+
+/// How the messages of a schema become rows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Decoder {
+    Acceleration,
+    Strain,
+    Displacement,
+    SampleBlock,
+    SensorTruth,
+    SensorTruthBlock,
+    Fault,
+    AxleLoads,
+    Vehicle,
+    Bridge,
+    Wim,
+    Log,
+}
+
+impl Decoder {
+    /// The decoder of a schema (its fully qualified message name); `None`: not one of the
+    /// output contract's.
+    pub fn for_schema(name: &str) -> Option<Decoder> {
+        Some(match name {
+            "bridgetwin.v1.AccelerationSample" => Decoder::Acceleration,
+            "bridgetwin.v1.StrainSample" => Decoder::Strain,
+            "bridgetwin.v1.DisplacementSample" => Decoder::Displacement,
+            "bridgetwin.v1.SampleBlock" => Decoder::SampleBlock,
+            "bridgetwin.v1.SensorTruth" => Decoder::SensorTruth,
+            "bridgetwin.v1.SensorTruthBlock" => Decoder::SensorTruthBlock,
+            "bridgetwin.v1.FaultInterval" => Decoder::Fault,
+            "bridgetwin.v1.AxleLoads" => Decoder::AxleLoads,
+            "bridgetwin.v1.VehicleTruth" => Decoder::Vehicle,
+            "bridgetwin.v1.BridgeState" => Decoder::Bridge,
+            "bridgetwin.v1.WimRecord" => Decoder::Wim,
+            "foxglove.Log" => Decoder::Log,
+            _ => return None,
+        })
+    }
+
+    /// Decodes one message logged at `log_time_ns` into rows of `table`. An error names
+    /// what did not decode; the table is then unchanged.
+    pub fn decode(
+        self,
+        data: &[u8],
+        log_time_ns: u64,
+        table: &mut TableBuilder,
+    ) -> Result<(), String> {
+        let log = i64::try_from(log_time_ns)
+            .map_err(|_| format!("log time {log_time_ns} ns is past the year 2262"))?;
+        match self {
+            Decoder::Acceleration => rows_of::<AccelerationSample>(data, log, table),
+            Decoder::Strain => rows_of::<StrainSample>(data, log, table),
+            Decoder::Displacement => rows_of::<DisplacementSample>(data, log, table),
+            Decoder::SampleBlock => rows_of::<SampleBlock>(data, log, table),
+            Decoder::SensorTruth => rows_of::<SensorTruth>(data, log, table),
+            Decoder::SensorTruthBlock => rows_of::<SensorTruthBlock>(data, log, table),
+            Decoder::Fault => rows_of::<FaultInterval>(data, log, table),
+            Decoder::AxleLoads => rows_of::<AxleLoads>(data, log, table),
+            Decoder::Vehicle => rows_of::<VehicleTruth>(data, log, table),
+            Decoder::Bridge => rows_of::<BridgeState>(data, log, table),
+            Decoder::Wim => rows_of::<WimRecord>(data, log, table),
+            Decoder::Log => rows_of::<Log>(data, log, table),
+        }
+    }
+}
+
+fn rows_of<M: Message + Default + Rows>(
+    data: &[u8],
+    log: i64,
+    table: &mut TableBuilder,
+) -> Result<(), String> {
+    M::decode(data)
+        .map_err(|e| format!("message does not decode: {e}"))?
+        .rows(log, table)
+}
+
+/// A message of the output contract as table rows: the one place that names the columns,
+/// used by the file reader and by the in-memory recorder alike.
+pub trait Rows {
+    /// Appends the message logged at `log` (Unix-epoch ns) as rows of `table`; on an error
+    /// (a time out of range) the table is unchanged.
+    fn rows(&self, log: i64, table: &mut TableBuilder) -> Result<(), String>;
+}
+
+impl Rows for AccelerationSample {
+    fn rows(&self, log: i64, table: &mut TableBuilder) -> Result<(), String> {
+        sample(
+            table,
+            log,
+            stamp(&self.timestamp)?,
+            "acceleration_m_s2",
+            self.acceleration_m_s2,
+        );
+        Ok(())
+    }
+}
+
+impl Rows for StrainSample {
+    fn rows(&self, log: i64, table: &mut TableBuilder) -> Result<(), String> {
+        sample(
+            table,
+            log,
+            stamp(&self.timestamp)?,
+            "strain_microstrain",
+            self.strain_microstrain,
+        );
+        Ok(())
+    }
+}
+
+impl Rows for DisplacementSample {
+    fn rows(&self, log: i64, table: &mut TableBuilder) -> Result<(), String> {
+        sample(
+            table,
+            log,
+            stamp(&self.timestamp)?,
+            "displacement_m",
+            self.displacement_m,
+        );
+        Ok(())
+    }
+}
+
+impl Rows for SampleBlock {
+    fn rows(&self, log: i64, table: &mut TableBuilder) -> Result<(), String> {
+        sample_block(table, log, self)
+    }
+}
+
+impl Rows for SensorTruth {
+    fn rows(&self, log: i64, table: &mut TableBuilder) -> Result<(), String> {
+        sensor_truth(table, log, self)
+    }
+}
+
+impl Rows for SensorTruthBlock {
+    fn rows(&self, log: i64, table: &mut TableBuilder) -> Result<(), String> {
+        truth_block(table, log, self)
+    }
+}
+
+impl Rows for FaultInterval {
+    fn rows(&self, log: i64, table: &mut TableBuilder) -> Result<(), String> {
+        let end = self.end_time.as_ref().map(ns).transpose()?;
+        let stamp_ns = stamp(&self.timestamp)?;
+        table.rows(1);
+        table.i64("log_time_ns", log);
+        table.i64("timestamp_ns", stamp_ns);
+        table.str("sensor_id", &self.sensor_id);
+        table.str("kind", &self.kind);
+        table.i64_or_missing("end_time_ns", end);
+        table.f64("magnitude", self.magnitude);
+        Ok(())
+    }
+}
+
+impl Rows for AxleLoads {
+    fn rows(&self, log: i64, table: &mut TableBuilder) -> Result<(), String> {
+        axle_loads(table, log, self)
+    }
+}
+
+impl Rows for VehicleTruth {
+    fn rows(&self, log: i64, table: &mut TableBuilder) -> Result<(), String> {
+        vehicle(table, log, self)
+    }
+}
+
+impl Rows for BridgeState {
+    fn rows(&self, log: i64, table: &mut TableBuilder) -> Result<(), String> {
+        bridge(table, log, self)
+    }
+}
+
+impl Rows for WimRecord {
+    fn rows(&self, log: i64, table: &mut TableBuilder) -> Result<(), String> {
+        wim(table, log, self)
+    }
+}
+
+impl Rows for Log {
+    fn rows(&self, log: i64, table: &mut TableBuilder) -> Result<(), String> {
+        let stamp_ns = stamp(&self.timestamp)?;
+        table.rows(1);
+        table.i64("log_time_ns", log);
+        table.i64("timestamp_ns", stamp_ns);
+        table.i32("level", self.level);
+        table.str("message", &self.message);
+        table.str("name", &self.name);
+        table.str("file", &self.file);
+        table.u32("line", self.line);
+        Ok(())
+    }
+}
+
+/// Name of the value column of a `SampleBlock` of `quantity`: that of the per-sample
+/// message, so both layouts of a sensor load to the same columns.
+pub fn block_value_name(quantity: &str) -> &'static str {
+    match quantity {
+        "acceleration" => "acceleration_m_s2",
+        "strain" => "strain_microstrain",
+        "displacement" => "displacement_m",
+        _ => "values",
+    }
+}
+
+/// A Timestamp as Unix-epoch ns; out-of-range values (negative nanos, past 2262) are
+/// damage, not numbers.
+fn ns(t: &prost_types::Timestamp) -> Result<i64, String> {
+    let valid = (0..1_000_000_000).contains(&t.nanos);
+    t.seconds
+        .checked_mul(1_000_000_000)
+        .and_then(|s| s.checked_add(i64::from(t.nanos)))
+        .filter(|_| valid)
+        .ok_or_else(|| format!("timestamp {}s {}ns is out of range", t.seconds, t.nanos))
+}
+
+/// The `timestamp` field (field 1 of every message); unset reads as the epoch, as the
+/// protobuf default.
+fn stamp(t: &Option<prost_types::Timestamp>) -> Result<i64, String> {
+    t.as_ref().map_or(Ok(0), ns)
+}
+
+fn sample(table: &mut TableBuilder, log: i64, stamp_ns: i64, name: &str, value: f64) {
+    table.rows(1);
+    table.i64("log_time_ns", log);
+    table.i64("timestamp_ns", stamp_ns);
+    table.f64(name, value);
+}
+
+/// Times of the samples of a block: `start + i * period`, checked not to overflow.
+fn sample_times(start_ns: i64, period_ns: u64, n: usize) -> Result<Vec<i64>, String> {
+    let period = i64::try_from(period_ns)
+        .map_err(|_| format!("sample_period_ns = {period_ns} is out of range"))?;
+    let last = i64::try_from(n.saturating_sub(1))
+        .ok()
+        .and_then(|k| k.checked_mul(period))
+        .and_then(|span| span.checked_add(start_ns));
+    if last.is_none() {
+        return Err(format!(
+            "a block of {n} samples of {period_ns} ns from {start_ns} ns runs out of range"
+        ));
+    }
+    Ok((0..n as i64).map(|i| start_ns + i * period).collect())
+}
+
+fn sample_block(table: &mut TableBuilder, log: i64, m: &SampleBlock) -> Result<(), String> {
+    let n = m.values.len();
+    let logs = sample_times(log, m.sample_period_ns, n)?;
+    let stamps = sample_times(stamp(&m.timestamp)?, m.sample_period_ns, n)?;
+    table.rows(n);
+    table.i64s("log_time_ns", logs);
+    table.i64s("timestamp_ns", stamps);
+    table.f64s(block_value_name(&m.quantity), m.values.iter().copied());
+    Ok(())
+}
+
+fn sensor_truth(table: &mut TableBuilder, log: i64, m: &SensorTruth) -> Result<(), String> {
+    let stamp_ns = stamp(&m.timestamp)?;
+    // Unset where it equals the true stamp (the writer saves 8 % that way): filled back in.
+    let node = m.node_timestamp.as_ref().map(ns).transpose()?;
+    table.rows(1);
+    table.i64("log_time_ns", log);
+    table.i64("timestamp_ns", stamp_ns);
+    table.str("sensor_id", &m.sensor_id);
+    table.f64("displacement_m", m.displacement_m);
+    table.f64("velocity_m_s", m.velocity_m_s);
+    table.f64("acceleration_m_s2", m.acceleration_m_s2);
+    table.f64("strain_microstrain", m.strain_microstrain);
+    table.f64("moment_n_m", m.moment_n_m);
+    table.i64("node_timestamp_ns", node.unwrap_or(stamp_ns));
+    table.bool("measured_lost", m.measured_lost);
+    Ok(())
+}
+
+fn truth_block(table: &mut TableBuilder, log: i64, m: &SensorTruthBlock) -> Result<(), String> {
+    let n = m.displacement_m.len();
+    let columns = [
+        ("displacement_m", &m.displacement_m),
+        ("velocity_m_s", &m.velocity_m_s),
+        ("acceleration_m_s2", &m.acceleration_m_s2),
+        ("strain_microstrain", &m.strain_microstrain),
+        ("moment_n_m", &m.moment_n_m),
+    ];
+    if let Some((name, c)) = columns.iter().find(|(_, c)| c.len() != n) {
+        return Err(format!(
+            "truth block: {name} has {} samples, displacement_m {n}",
+            c.len()
+        ));
+    }
+    let logs = sample_times(log, m.sample_period_ns, n)?;
+    let stamps = sample_times(stamp(&m.timestamp)?, m.sample_period_ns, n)?;
+    table.rows(n);
+    table.i64s("log_time_ns", logs);
+    table.i64s("timestamp_ns", stamps);
+    table.str_repeated("sensor_id", &m.sensor_id, n);
+    for (name, c) in columns {
+        table.f64s(name, c.iter().copied());
+    }
+    Ok(())
+}
+
+fn axle_loads(table: &mut TableBuilder, log: i64, m: &AxleLoads) -> Result<(), String> {
+    let n = m.axles.len();
+    let stamp_ns = stamp(&m.timestamp)?;
+    table.rows(n);
+    table.i64s("log_time_ns", std::iter::repeat_n(log, n));
+    table.i64s("timestamp_ns", std::iter::repeat_n(stamp_ns, n));
+    table.u32s("axles.vehicle_id", m.axles.iter().map(|a| a.vehicle_id));
+    table.u32s("axles.axle_index", m.axles.iter().map(|a| a.axle_index));
+    table.f64s("axles.position_m", m.axles.iter().map(|a| a.position_m));
+    table.f64s("axles.force_n", m.axles.iter().map(|a| a.force_n));
+    table.f64s(
+        "axles.static_load_n",
+        m.axles.iter().map(|a| a.static_load_n),
+    );
+    table.bools("axles.in_contact", m.axles.iter().map(|a| a.in_contact));
+    table.bools("axles.on_bridge", m.axles.iter().map(|a| a.on_bridge));
+    Ok(())
+}
+
+fn vehicle(table: &mut TableBuilder, log: i64, m: &VehicleTruth) -> Result<(), String> {
+    let entry = m.entry_time.as_ref().map(ns).transpose()?;
+    let exit = m.exit_time.as_ref().map(ns).transpose()?;
+    let stamp_ns = stamp(&m.timestamp)?;
+    table.rows(1);
+    table.i64("log_time_ns", log);
+    table.i64("timestamp_ns", stamp_ns);
+    table.u32("vehicle_id", m.vehicle_id);
+    table.str("vehicle_class", &m.vehicle_class);
+    table.str("model", &m.model);
+    table.u32("lane", m.lane);
+    table.i32("direction", m.direction);
+    table.f64("speed_m_s", m.speed_m_s);
+    table.i64_or_missing("entry_time_ns", entry);
+    table.i64_or_missing("exit_time_ns", exit);
+    table.f64_list("axle_spacing_m", &m.axle_spacing_m);
+    table.f64_list("static_axle_load_n", &m.static_axle_load_n);
+    table.f64("gross_weight_n", m.gross_weight_n);
+    // A map's keys in sorted order, so that the columns come out in the same order
+    // whichever vehicle shows a key first.
+    let mut parameters: Vec<_> = m.parameters.iter().collect();
+    parameters.sort_by(|a, b| a.0.cmp(b.0));
+    for (key, value) in parameters {
+        table.f64(&format!("parameters.{key}"), *value);
+    }
+    Ok(())
+}
+
+fn bridge(table: &mut TableBuilder, log: i64, m: &BridgeState) -> Result<(), String> {
+    let stamp_ns = stamp(&m.timestamp)?;
+    table.rows(1);
+    table.i64("log_time_ns", log);
+    table.i64("timestamp_ns", stamp_ns);
+    table.f64_list("node_position_m", &m.node_position_m);
+    table.f64_list("deflection_m", &m.deflection_m);
+    table.f64_list("natural_frequency_hz", &m.natural_frequency_hz);
+    table.f64_list("damping_ratio", &m.damping_ratio);
+    table.f64_list("modal_amplitude_m", &m.modal_amplitude_m);
+    table.f64("temperature_c", m.temperature_c);
+    table.f64("midspan_deflection_m", m.midspan_deflection_m);
+    table.f64_list("stiffness_ratio", &m.stiffness_ratio);
+    table.f64("air_temperature_c", m.air_temperature_c);
+    table.f64_list("damage_fraction", &m.damage_fraction);
+    // Mode shapes come in the first message only: one list per field, empty afterwards.
+    let modes: Vec<u32> = m.mode_shapes.iter().map(|s| s.mode_number).collect();
+    table.u32_list("mode_shapes.mode_number", &modes);
+    let f: Vec<f64> = m
+        .mode_shapes
+        .iter()
+        .map(|s| s.natural_frequency_hz)
+        .collect();
+    table.f64_list("mode_shapes.natural_frequency_hz", &f);
+    let amplitude: Vec<f64> = m
+        .mode_shapes
+        .iter()
+        .flat_map(|s| s.amplitude.iter().copied())
+        .collect();
+    table.f64_list("mode_shapes.amplitude", &amplitude);
+    Ok(())
+}
+
+fn wim(table: &mut TableBuilder, log: i64, m: &WimRecord) -> Result<(), String> {
+    let stamp_ns = stamp(&m.timestamp)?;
+    table.rows(1);
+    table.i64("log_time_ns", log);
+    table.i64("timestamp_ns", stamp_ns);
+    table.str("station_id", &m.station_id);
+    table.u32("vehicle_id", m.vehicle_id);
+    table.u32("lane", m.lane);
+    table.f64("speed_m_s", m.speed_m_s);
+    table.u32("axle_count", m.axle_count);
+    table.f64_list("axle_spacing_m", &m.axle_spacing_m);
+    table.f64_list("axle_load_n", &m.axle_load_n);
+    table.f64("gross_weight_n", m.gross_weight_n);
+    table.str("axle_pattern", &m.axle_pattern);
+    table.str_list("flags", &m.flags);
+    let first: Vec<u32> = m.groups.iter().map(|g| g.first_axle).collect();
+    table.u32_list("groups.first_axle", &first);
+    let count: Vec<u32> = m.groups.iter().map(|g| g.axle_count).collect();
+    table.u32_list("groups.axle_count", &count);
+    let load: Vec<f64> = m.groups.iter().map(|g| g.load_n).collect();
+    table.f64_list("groups.load_n", &load);
+    table.u32("fhwa_class", m.fhwa_class);
+    table.str("model", &m.model);
+    table.str("error_reference", &m.error_reference);
+    table.f64("speed_error_rel", m.speed_error_rel);
+    table.f64("gross_weight_error_rel", m.gross_weight_error_rel);
+    table.f64_list("axle_load_error_rel", &m.axle_load_error_rel);
+    Ok(())
+}
