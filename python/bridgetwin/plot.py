@@ -10,9 +10,12 @@ seconds and no peak is lost to the decimation.
 from __future__ import annotations
 
 import os
+import warnings
 from typing import TYPE_CHECKING, Any, Sequence
 
 import numpy as np
+
+from . import _native
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -35,56 +38,31 @@ def envelope(t: np.ndarray, y: np.ndarray, buckets: int = 2000) -> tuple[np.ndar
     k = n // buckets
     m = k * buckets
     yb = y[:m].reshape(buckets, k)
-    tb = t[:m].reshape(buckets, k)
-    with np.errstate(invalid="ignore"), _quiet_nan():
+    with warnings.catch_warnings():
+        # A bucket inside a data gap is all NaN: it stays NaN (a gap in the line).
+        warnings.simplefilter("ignore", RuntimeWarning)
         lo = np.nanmin(yb, axis=1)
         hi = np.nanmax(yb, axis=1)
-    t_mid = tb[:, k // 2]
-    t_out = np.repeat(t_mid, 2)
-    y_out = np.column_stack([lo, hi]).ravel()
-    return t_out, y_out
-
-
-class _quiet_nan:
-    """Silences numpy's all-NaN-slice warnings (a bucket inside a data gap)."""
-
-    def __enter__(self):
-        import warnings
-
-        self._ctx = warnings.catch_warnings()
-        self._ctx.__enter__()
-        warnings.simplefilter("ignore", category=RuntimeWarning)
-
-    def __exit__(self, *exc):
-        return self._ctx.__exit__(*exc)
+    t_mid = t[:m].reshape(buckets, k)[:, k // 2]
+    return np.repeat(t_mid, 2), np.column_stack([lo, hi]).ravel()
 
 
 def welch_psd(y: np.ndarray, rate_hz: float, segment: int | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """One-sided PSD by Welch's method (Hann window, 50 % overlap), in units^2/Hz.
+    """One-sided PSD in units^2/Hz by the project's Welch estimate (Rust: Hann windows,
+    50 % overlap, DC and Nyquist bins left out).
 
     Lost samples (NaN) are set to the mean: they lower the level slightly but do not
-    move peaks. ``segment`` defaults to about 20 s of data (at least 256 samples)."""
+    move peaks. ``segment`` defaults to about 20 s of data (at least 256 samples, even,
+    at most the record)."""
     y = np.asarray(y, dtype=float)
     finite = np.isfinite(y)
-    if not finite.any():
+    if finite.sum() < 8:
         return np.array([]), np.array([])
-    y = np.where(finite, y, np.nanmean(y)) - np.nanmean(y)
+    y = np.where(finite, y, np.mean(y[finite]))
     if segment is None:
         segment = int(2 ** np.ceil(np.log2(max(256, 20 * rate_hz))))
-    segment = min(segment, len(y))
-    step = segment // 2
-    count = 1 + (len(y) - segment) // step
-    window = np.hanning(segment)
-    scale = 1.0 / (rate_hz * np.sum(window**2))
-    psd = np.zeros(segment // 2 + 1)
-    for i in range(count):
-        chunk = y[i * step : i * step + segment] * window
-        psd += np.abs(np.fft.rfft(chunk)) ** 2
-    psd *= 2.0 * scale / count
-    psd[0] /= 2.0
-    if segment % 2 == 0:
-        psd[-1] /= 2.0
-    return np.fft.rfftfreq(segment, 1.0 / rate_hz), psd
+    segment = min(segment, len(y)) // 2 * 2
+    return _native.welch_psd(np.ascontiguousarray(y), 1.0 / rate_hz, segment)
 
 
 def representative_sensors(run: "Run", per_kind: int = 2) -> list[str]:
@@ -216,7 +194,7 @@ def _draw_psd(ax, run, topic):
     t, y, _ = _series(run, topic)
     rate = _float(run.channels[topic].get("sample_rate_hz")) or 1.0 / np.median(np.diff(t))
     f, p = welch_psd(y, rate)
-    ax.semilogy(f[1:], p[1:], linewidth=0.8, label=_label(run, topic))
+    ax.semilogy(f, p, linewidth=0.8, label=_label(run, topic))
     f1 = _true_f1(run)
     if f1 is not None:
         lo, hi = f1

@@ -315,6 +315,26 @@ fn offsets_array(py: Python<'_>, offsets: Vec<usize>) -> Bound<'_, PyAny> {
     offsets.into_pyarray(py).into_any()
 }
 
+/// The project's Welch PSD (`bridgetwin::base::signal::welch_psd`: Hann windows, 50 %
+/// overlap, each segment's mean removed, one-sided density), off the GIL. Returns
+/// `(frequencies, density)` for bins 1 .. segment_len/2 - 1.
+#[pyfunction]
+fn welch_psd<'py>(
+    py: Python<'py>,
+    samples: numpy::PyReadonlyArray1<'py, f64>,
+    spacing: f64,
+    segment_len: usize,
+) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
+    let samples = samples.as_array().to_vec();
+    let psd = py
+        .detach(|| bridgetwin::base::signal::welch_psd(&samples, spacing, segment_len))
+        .map_err(|e| PyValueError::new_err(e.to_string()))?;
+    Ok((
+        psd.frequencies.into_pyarray(py).into_any(),
+        psd.density.into_pyarray(py).into_any(),
+    ))
+}
+
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
@@ -327,5 +347,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(check, m)?)?;
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(read_run, m)?)?;
+    m.add_function(wrap_pyfunction!(welch_psd, m)?)?;
     Ok(())
 }

@@ -109,9 +109,10 @@ pub fn run_to_files(
     force: bool,
     control: &mut Control,
 ) -> std::result::Result<FilesOutcome, (crate::Error, Vec<PathBuf>)> {
-    let prepared = crate::sim::prepare(resolved).map_err(|e| (e, Vec::new()))?;
-    let mut sink =
-        McapSink::create(out, sink_options(resolved, force)).map_err(|e| (e, Vec::new()))?;
+    // Errors before the loop, and in closing the files, leave no completed part behind.
+    let alone = |e: crate::Error| (e, Vec::new());
+    let prepared = crate::sim::prepare(resolved).map_err(alone)?;
+    let mut sink = McapSink::create(out, sink_options(resolved, force)).map_err(alone)?;
     match write_run(
         &mut sink,
         resolved,
@@ -120,8 +121,8 @@ pub fn run_to_files(
         WriterThread::Background,
     ) {
         Ok(written) if written.summary.stopped_at_s.is_some() => {
-            let completed_parts = sink.parts().map_err(|e| (e, Vec::new()))?.to_vec();
-            let partial = sink.finish_partial().map_err(|e| (e, Vec::new()))?;
+            let completed_parts = sink.parts().map_err(alone)?.to_vec();
+            let partial = sink.finish_partial().map_err(alone)?;
             Ok(FilesOutcome::Stopped {
                 written,
                 partial,
@@ -129,7 +130,7 @@ pub fn run_to_files(
             })
         }
         Ok(written) => {
-            let paths = sink.finish_parts().map_err(|e| (e, Vec::new()))?;
+            let paths = sink.finish_parts().map_err(alone)?;
             Ok(FilesOutcome::Finished { written, paths })
         }
         Err(e) => {

@@ -13,6 +13,7 @@ use crate::output::proto::v1::{
     AccelerationSample, AxleLoads, BridgeState, DisplacementSample, FaultInterval, SampleBlock,
     SensorTruth, SensorTruthBlock, StrainSample, VehicleTruth, WimRecord,
 };
+use crate::record::SensorKind;
 
 /// How the messages of a schema become rows.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -63,160 +64,84 @@ impl Decoder {
         let log = i64::try_from(log_time_ns)
             .map_err(|_| format!("log time {log_time_ns} ns is past the year 2262"))?;
         match self {
-            Decoder::Acceleration => rows_of::<AccelerationSample>(data, log, table),
-            Decoder::Strain => rows_of::<StrainSample>(data, log, table),
-            Decoder::Displacement => rows_of::<DisplacementSample>(data, log, table),
-            Decoder::SampleBlock => rows_of::<SampleBlock>(data, log, table),
-            Decoder::SensorTruth => rows_of::<SensorTruth>(data, log, table),
-            Decoder::SensorTruthBlock => rows_of::<SensorTruthBlock>(data, log, table),
-            Decoder::Fault => rows_of::<FaultInterval>(data, log, table),
-            Decoder::AxleLoads => rows_of::<AxleLoads>(data, log, table),
-            Decoder::Vehicle => rows_of::<VehicleTruth>(data, log, table),
-            Decoder::Bridge => rows_of::<BridgeState>(data, log, table),
-            Decoder::Wim => rows_of::<WimRecord>(data, log, table),
-            Decoder::Log => rows_of::<Log>(data, log, table),
+            Decoder::Acceleration => {
+                let m: AccelerationSample = parse(data)?;
+                sample(
+                    table,
+                    log,
+                    stamp(&m.timestamp)?,
+                    SensorKind::Accelerometer,
+                    m.acceleration_m_s2,
+                )
+            }
+            Decoder::Strain => {
+                let m: StrainSample = parse(data)?;
+                sample(
+                    table,
+                    log,
+                    stamp(&m.timestamp)?,
+                    SensorKind::Strain,
+                    m.strain_microstrain,
+                )
+            }
+            Decoder::Displacement => {
+                let m: DisplacementSample = parse(data)?;
+                sample(
+                    table,
+                    log,
+                    stamp(&m.timestamp)?,
+                    SensorKind::Displacement,
+                    m.displacement_m,
+                )
+            }
+            Decoder::SampleBlock => sample_block(table, log, &parse(data)?),
+            Decoder::SensorTruth => sensor_truth(table, log, &parse(data)?),
+            Decoder::SensorTruthBlock => truth_block(table, log, &parse(data)?),
+            Decoder::Fault => fault(table, log, &parse(data)?),
+            Decoder::AxleLoads => axle_loads(table, log, &parse(data)?),
+            Decoder::Vehicle => vehicle(table, log, &parse(data)?),
+            Decoder::Bridge => bridge(table, log, &parse(data)?),
+            Decoder::Wim => wim(table, log, &parse(data)?),
+            Decoder::Log => event(table, log, &parse(data)?),
         }
     }
 }
 
-fn rows_of<M: Message + Default + Rows>(
-    data: &[u8],
-    log: i64,
-    table: &mut TableBuilder,
-) -> Result<(), String> {
-    M::decode(data)
-        .map_err(|e| format!("message does not decode: {e}"))?
-        .rows(log, table)
+fn parse<M: Message + Default>(data: &[u8]) -> Result<M, String> {
+    M::decode(data).map_err(|e| format!("message does not decode: {e}"))
 }
 
-/// A message of the output contract as table rows: the one place that names the columns,
-/// used by the file reader and by the in-memory recorder alike.
-pub trait Rows {
-    /// Appends the message logged at `log` (Unix-epoch ns) as rows of `table`; on an error
-    /// (a time out of range) the table is unchanged.
-    fn rows(&self, log: i64, table: &mut TableBuilder) -> Result<(), String>;
+fn fault(table: &mut TableBuilder, log: i64, m: &FaultInterval) -> Result<(), String> {
+    let end = m.end_time.as_ref().map(ns).transpose()?;
+    let stamp_ns = stamp(&m.timestamp)?;
+    table.rows(1);
+    table.i64("log_time_ns", log);
+    table.i64("timestamp_ns", stamp_ns);
+    table.str("sensor_id", &m.sensor_id);
+    table.str("kind", &m.kind);
+    table.i64_or_missing("end_time_ns", end);
+    table.f64("magnitude", m.magnitude);
+    Ok(())
 }
 
-impl Rows for AccelerationSample {
-    fn rows(&self, log: i64, table: &mut TableBuilder) -> Result<(), String> {
-        sample(
-            table,
-            log,
-            stamp(&self.timestamp)?,
-            "acceleration_m_s2",
-            self.acceleration_m_s2,
-        );
-        Ok(())
-    }
-}
-
-impl Rows for StrainSample {
-    fn rows(&self, log: i64, table: &mut TableBuilder) -> Result<(), String> {
-        sample(
-            table,
-            log,
-            stamp(&self.timestamp)?,
-            "strain_microstrain",
-            self.strain_microstrain,
-        );
-        Ok(())
-    }
-}
-
-impl Rows for DisplacementSample {
-    fn rows(&self, log: i64, table: &mut TableBuilder) -> Result<(), String> {
-        sample(
-            table,
-            log,
-            stamp(&self.timestamp)?,
-            "displacement_m",
-            self.displacement_m,
-        );
-        Ok(())
-    }
-}
-
-impl Rows for SampleBlock {
-    fn rows(&self, log: i64, table: &mut TableBuilder) -> Result<(), String> {
-        sample_block(table, log, self)
-    }
-}
-
-impl Rows for SensorTruth {
-    fn rows(&self, log: i64, table: &mut TableBuilder) -> Result<(), String> {
-        sensor_truth(table, log, self)
-    }
-}
-
-impl Rows for SensorTruthBlock {
-    fn rows(&self, log: i64, table: &mut TableBuilder) -> Result<(), String> {
-        truth_block(table, log, self)
-    }
-}
-
-impl Rows for FaultInterval {
-    fn rows(&self, log: i64, table: &mut TableBuilder) -> Result<(), String> {
-        let end = self.end_time.as_ref().map(ns).transpose()?;
-        let stamp_ns = stamp(&self.timestamp)?;
-        table.rows(1);
-        table.i64("log_time_ns", log);
-        table.i64("timestamp_ns", stamp_ns);
-        table.str("sensor_id", &self.sensor_id);
-        table.str("kind", &self.kind);
-        table.i64_or_missing("end_time_ns", end);
-        table.f64("magnitude", self.magnitude);
-        Ok(())
-    }
-}
-
-impl Rows for AxleLoads {
-    fn rows(&self, log: i64, table: &mut TableBuilder) -> Result<(), String> {
-        axle_loads(table, log, self)
-    }
-}
-
-impl Rows for VehicleTruth {
-    fn rows(&self, log: i64, table: &mut TableBuilder) -> Result<(), String> {
-        vehicle(table, log, self)
-    }
-}
-
-impl Rows for BridgeState {
-    fn rows(&self, log: i64, table: &mut TableBuilder) -> Result<(), String> {
-        bridge(table, log, self)
-    }
-}
-
-impl Rows for WimRecord {
-    fn rows(&self, log: i64, table: &mut TableBuilder) -> Result<(), String> {
-        wim(table, log, self)
-    }
-}
-
-impl Rows for Log {
-    fn rows(&self, log: i64, table: &mut TableBuilder) -> Result<(), String> {
-        let stamp_ns = stamp(&self.timestamp)?;
-        table.rows(1);
-        table.i64("log_time_ns", log);
-        table.i64("timestamp_ns", stamp_ns);
-        table.i32("level", self.level);
-        table.str("message", &self.message);
-        table.str("name", &self.name);
-        table.str("file", &self.file);
-        table.u32("line", self.line);
-        Ok(())
-    }
+fn event(table: &mut TableBuilder, log: i64, m: &Log) -> Result<(), String> {
+    let stamp_ns = stamp(&m.timestamp)?;
+    table.rows(1);
+    table.i64("log_time_ns", log);
+    table.i64("timestamp_ns", stamp_ns);
+    table.i32("level", m.level);
+    table.str("message", &m.message);
+    table.str("name", &m.name);
+    table.str("file", &m.file);
+    table.u32("line", m.line);
+    Ok(())
 }
 
 /// Name of the value column of a `SampleBlock` of `quantity`: that of the per-sample
-/// message, so both layouts of a sensor load to the same columns.
+/// message ([`SensorKind::value_field`]), so both layouts of a sensor load to the same
+/// columns; `values` for a quantity this version does not know.
 pub fn block_value_name(quantity: &str) -> &'static str {
-    match quantity {
-        "acceleration" => "acceleration_m_s2",
-        "strain" => "strain_microstrain",
-        "displacement" => "displacement_m",
-        _ => "values",
-    }
+    SensorKind::from_quantity(quantity).map_or("values", SensorKind::value_field)
 }
 
 /// A Timestamp as Unix-epoch ns; out-of-range values (negative nanos, past 2262) are
@@ -236,11 +161,18 @@ fn stamp(t: &Option<prost_types::Timestamp>) -> Result<i64, String> {
     t.as_ref().map_or(Ok(0), ns)
 }
 
-fn sample(table: &mut TableBuilder, log: i64, stamp_ns: i64, name: &str, value: f64) {
+fn sample(
+    table: &mut TableBuilder,
+    log: i64,
+    stamp_ns: i64,
+    kind: SensorKind,
+    value: f64,
+) -> Result<(), String> {
     table.rows(1);
     table.i64("log_time_ns", log);
     table.i64("timestamp_ns", stamp_ns);
-    table.f64(name, value);
+    table.f64(kind.value_field(), value);
+    Ok(())
 }
 
 /// Times of the samples of a block: `start + i * period`, checked not to overflow.

@@ -15,7 +15,7 @@ mod run;
 mod stream;
 mod table;
 
-pub use decode::{block_value_name, Decoder, Rows};
+pub use decode::{block_value_name, Decoder};
 pub use run::{read_run, topic_matches, PartRead, ReadOptions, RunData, TopicData};
 pub use stream::{read_records, record_limit_bytes, Damage, End, Flow, Pass};
 pub use table::{Column, Table, TableBuilder, Values};

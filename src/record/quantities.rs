@@ -71,11 +71,33 @@ impl SensorKind {
     }
 
     /// The measured quantity's name ("acceleration", "strain", "displacement").
-    pub fn quantity(self) -> &'static str {
+    pub const fn quantity(self) -> &'static str {
         match self {
             SensorKind::Accelerometer => "acceleration",
             SensorKind::Strain => "strain",
             SensorKind::Displacement => "displacement",
+        }
+    }
+
+    /// The kind whose [`Self::quantity`] is `quantity`.
+    pub fn from_quantity(quantity: &str) -> Option<SensorKind> {
+        [
+            SensorKind::Accelerometer,
+            SensorKind::Strain,
+            SensorKind::Displacement,
+        ]
+        .into_iter()
+        .find(|k| k.quantity() == quantity)
+    }
+
+    /// The value field of the kind's per-sample message, with its unit
+    /// ("acceleration_m_s2"): the column name readers give a sensor's values in both
+    /// layouts.
+    pub const fn value_field(self) -> &'static str {
+        match self {
+            SensorKind::Accelerometer => "acceleration_m_s2",
+            SensorKind::Strain => "strain_microstrain",
+            SensorKind::Displacement => "displacement_m",
         }
     }
 }

@@ -71,19 +71,19 @@ const KINDS: &[Kind] = &[
     Kind {
         segment: "accel",
         title: "Acceleration, m/s^2 (downward positive)",
-        field: "acceleration_m_s2",
+        field: crate::record::SensorKind::Accelerometer.value_field(),
         drawn_down: false,
     },
     Kind {
         segment: "strain",
         title: "Strain, microstrain (tension positive)",
-        field: "strain_microstrain",
+        field: crate::record::SensorKind::Strain.value_field(),
         drawn_down: false,
     },
     Kind {
         segment: "disp",
         title: "Displacement, m (downward positive, drawn down)",
-        field: "displacement_m",
+        field: crate::record::SensorKind::Displacement.value_field(),
         drawn_down: true,
     },
 ];
