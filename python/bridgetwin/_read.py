@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import glob as _glob
-import json
 import os
 import re
 import warnings
@@ -66,10 +65,21 @@ class Run(Mapping[str, pd.DataFrame]):
         self.damage: list[str] = [
             f"{p['path']}: {p['damage']}" for p in self.parts if p["damage"] is not None
         ]
+        self.scenario: dict[str, Any] = self._scenario()
+
+    def _scenario(self) -> dict[str, Any]:
         toml_text = self.metadata.get("scenario", {}).get("toml")
-        self.scenario: dict[str, Any] = (
-            json.loads(_native.toml_to_json(toml_text, "scenario metadata")) if toml_text else {}
-        )
+        if not toml_text:
+            return {}
+        try:
+            return _native.toml_to_dict(toml_text, "scenario metadata")
+        except _native.ScenarioError as e:
+            # Records are handed on before the data section's CRC is checked at its end:
+            # in a damaged file the metadata itself may be what is damaged.
+            if self.damage:
+                self.damage.append(f"the scenario metadata does not parse ({e}); run.scenario is empty")
+                return {}
+            raise _native.ReadError(f"the scenario metadata does not parse: {e}") from None
 
     def __getitem__(self, topic: str) -> pd.DataFrame:
         try:

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 import os
 import tempfile
 from pathlib import Path
@@ -16,7 +15,7 @@ Scenario = dict[str, Any] | str | os.PathLike | None
 
 def default_scenario() -> dict[str, Any]:
     """The embedded default scenario (``bridgetwin scenario show``) as a dict."""
-    return json.loads(_native.toml_to_json(_native.default_scenario_toml(), "<default scenario>"))
+    return _native.toml_to_dict(_native.default_scenario_toml(), "<default scenario>")
 
 
 def _source(scenario: Scenario) -> dict[str, Any]:
@@ -31,18 +30,8 @@ def _source(scenario: Scenario) -> dict[str, Any]:
             return {"path": scenario}
         return {"text": scenario, "source": "<scenario text>"}
     if isinstance(scenario, dict):
-        text = _native.json_to_toml(json.dumps(_without_none(scenario)))
-        return {"text": text, "source": "<scenario dict>"}
+        return {"text": _native.dict_to_toml(scenario), "source": "<scenario dict>"}
     raise TypeError(f"scenario: expected a dict, TOML text or a path, got {type(scenario).__name__}")
-
-
-def _without_none(value: Any) -> Any:
-    # TOML has no null: a key set to None is left out (its default applies).
-    if isinstance(value, dict):
-        return {k: _without_none(v) for k, v in value.items() if v is not None}
-    if isinstance(value, (list, tuple)):
-        return [_without_none(v) for v in value]
-    return value
 
 
 def check(scenario: Scenario = None) -> list[str]:

@@ -26,6 +26,8 @@ VALUE_COLUMNS = {
     "accel": ("acceleration_m_s2", "m/s²"),
     "strain": ("strain_microstrain", "µε"),
     "disp": ("displacement_m", "m"),
+    # /truth/sensors/<id>: the noise-free response at a sensor; its deflection is drawn.
+    "sensors": ("displacement_m", "m"),
 }
 
 
@@ -107,6 +109,11 @@ def overview(
     sensors = list(sensors) if sensors is not None else representative_sensors(run)
     accel = [s for s in sensors if s.startswith("/sensors/accel/")]
     response = [s for s in sensors if s.startswith(("/sensors/strain/", "/sensors/disp/"))]
+    if not response:
+        # No strain gauge or displacement sensor: the true deflection at the chosen
+        # accelerometers (their truth streams) still shows each vehicle's passage.
+        truth = (f"/truth/sensors/{t.rsplit('/', 1)[1]}" for t in accel)
+        response = [t for t in truth if t in run]
     vehicles = _vehicle_windows(run)
     fig, axes = plt.subplot_mosaic(
         [["accel", "accel"], ["response", "response"], ["psd", "peaks"]],
@@ -115,6 +122,8 @@ def overview(
     )
     _draw_series(axes["accel"], run, accel, vehicles, buckets, "acceleration (m/s²)")
     _draw_response(axes["response"], run, response, vehicles, buckets)
+    if accel:
+        axes["response"].sharex(axes["accel"])
     _draw_psd(axes["psd"], run, accel[0] if accel else None)
     _draw_peaks(axes["peaks"], run, response, vehicles)
     title = run.metadata.get("bridge_model", {}).get("model", "")
@@ -162,7 +171,7 @@ def _draw_series(ax, run, topics, vehicles, buckets, ylabel):
 
 def _draw_response(ax, run, topics, vehicles, buckets):
     strain = [t for t in topics if "/strain/" in t]
-    disp = [t for t in topics if "/disp/" in t]
+    disp = [t for t in topics if "/disp/" in t or t.startswith("/truth/sensors/")]
     for topic in strain:
         t, y, _ = _series(run, topic)
         ax.plot(*envelope(t, y, buckets), linewidth=0.6, label=_label(run, topic))
@@ -173,7 +182,7 @@ def _draw_response(ax, run, topics, vehicles, buckets):
         twin = ax.twinx() if strain else ax
         for topic in disp:
             t, y, _ = _series(run, topic)
-            twin.plot(*envelope(t, y * 1e3, buckets), linewidth=0.6, linestyle="--", color="tab:green", label=_label(run, topic))
+            twin.plot(*envelope(t, y * 1e3, buckets), linewidth=0.6, linestyle="--", label=_label(run, topic))
         twin.set_ylabel("deflection (mm, down positive)")
         h2, l2 = twin.get_legend_handles_labels()
         if twin is not ax:
@@ -223,7 +232,8 @@ def _draw_peaks(ax, run, topics, vehicles):
             weights.append(weight_n / 9.81e3)
     ax.scatter(weights, peaks, s=10, alpha=0.7)
     ax.set_xlabel("gross weight (t)")
-    ax.set_ylabel(f"peak |{topic.split('/')[-1]}| ({unit})")
+    truth = " true deflection" if topic.startswith("/truth/") else ""
+    ax.set_ylabel(f"peak |{topic.split('/')[-1]}{truth}| ({unit})")
     ax.set_title(f"per-vehicle peaks ({len(peaks)} vehicles, overlaps included)", fontsize=9)
 
 
@@ -256,7 +266,8 @@ def _true_f1(run: "Run") -> tuple[float, float] | None:
 
 def _label(run: "Run", topic: str) -> str:
     x = run.channels[topic].get("position_m")
-    return f"{topic.split('/')[-1]} at {x} m" if x is not None else topic
+    truth = " (true)" if topic.startswith("/truth/") else ""
+    return f"{topic.split('/')[-1]}{truth} at {x} m" if x is not None else topic
 
 
 def _span_m(run: "Run") -> float | None:

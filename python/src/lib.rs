@@ -4,6 +4,8 @@
 //! (`bridgetwin::app::run::run_to_files`), off the GIL. The Python package in
 //! `python/bridgetwin` turns the columns into pandas DataFrames.
 
+mod convert;
+
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -81,20 +83,18 @@ fn default_scenario_toml() -> &'static str {
     DEFAULT_SCENARIO_TOML
 }
 
-/// TOML text to JSON text (scenario dicts cross the boundary as JSON: no TOML library
-/// is needed on the Python side). Errors name `source`.
+/// TOML text as a dict; errors (ScenarioError) name `source`.
 #[pyfunction]
-fn toml_to_json(text: &str, source: &str) -> PyResult<String> {
+fn toml_to_dict<'py>(py: Python<'py>, text: &str, source: &str) -> PyResult<Bound<'py, PyAny>> {
     let value: toml::Value =
         toml::from_str(text).map_err(|e| ScenarioError::new_err(format!("{source}: {e}")))?;
-    serde_json::to_string(&value).map_err(|e| ScenarioError::new_err(e.to_string()))
+    convert::to_python(py, &value)
 }
 
-/// JSON text of a scenario dict to TOML text.
+/// A scenario dict as TOML text (infinities and NaN kept: the checks name them).
 #[pyfunction]
-fn json_to_toml(json: &str) -> PyResult<String> {
-    let value: toml::Value =
-        serde_json::from_str(json).map_err(|e| ScenarioError::new_err(format!("scenario: {e}")))?;
+fn dict_to_toml(scenario: &Bound<'_, PyAny>) -> PyResult<String> {
+    let value = convert::to_toml(scenario, "")?;
     toml::to_string(&value).map_err(|e| ScenarioError::new_err(format!("scenario: {e}")))
 }
 
@@ -342,8 +342,8 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("ReadError", m.py().get_type::<ReadError>())?;
     m.add("SimulationError", m.py().get_type::<SimulationError>())?;
     m.add_function(wrap_pyfunction!(default_scenario_toml, m)?)?;
-    m.add_function(wrap_pyfunction!(toml_to_json, m)?)?;
-    m.add_function(wrap_pyfunction!(json_to_toml, m)?)?;
+    m.add_function(wrap_pyfunction!(toml_to_dict, m)?)?;
+    m.add_function(wrap_pyfunction!(dict_to_toml, m)?)?;
     m.add_function(wrap_pyfunction!(check, m)?)?;
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(read_run, m)?)?;

@@ -7,7 +7,7 @@
 
 use prost::Message;
 
-use super::table::TableBuilder;
+use super::table::{Table, TableBuilder};
 use crate::output::proto::foxglove::Log;
 use crate::output::proto::v1::{
     AccelerationSample, AxleLoads, BridgeState, DisplacementSample, FaultInterval, SampleBlock,
@@ -104,6 +104,36 @@ impl Decoder {
             Decoder::Wim => wim(table, log, &parse(data)?),
             Decoder::Log => event(table, log, &parse(data)?),
         }
+    }
+}
+
+impl Decoder {
+    /// The columns this decoder gives, without rows: the frame of a topic that has no
+    /// message in the files read (a part of a split run before the first vehicle) still
+    /// has them. A block topic's value column is named from its channel's `unit`.
+    pub fn empty_table(self, channel_unit: Option<&str>) -> Table {
+        let mut builder = TableBuilder::default();
+        let decoded = match self {
+            Decoder::SampleBlock => {
+                let quantity = [
+                    SensorKind::Accelerometer,
+                    SensorKind::Strain,
+                    SensorKind::Displacement,
+                ]
+                .into_iter()
+                .find(|k| Some(k.unit()) == channel_unit)
+                .map_or("", SensorKind::quantity);
+                let block = SampleBlock {
+                    quantity: quantity.to_string(),
+                    ..SampleBlock::default()
+                };
+                sample_block(&mut builder, 0, &block)
+            }
+            // The empty encoding is the default message.
+            _ => self.decode(&[], 0, &mut builder),
+        };
+        debug_assert!(decoded.is_ok(), "{self:?}: the default message decodes");
+        builder.build().empty_like()
     }
 }
 

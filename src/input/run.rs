@@ -327,6 +327,11 @@ impl<'a> Reader<'a> {
             .unwrap_or(0);
         for (topic, (schema, metadata, builder)) in std::mem::take(&mut self.builders) {
             let mut table = builder.build();
+            if table.rows == 0 {
+                if let Some(decoder) = Decoder::for_schema(&schema) {
+                    table = decoder.empty_table(metadata.get("unit").map(String::as_str));
+                }
+            }
             table.finish(self.run.start_time_ns);
             self.run.topics.insert(
                 topic,

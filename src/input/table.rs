@@ -145,6 +145,22 @@ impl Table {
         }
     }
 
+    /// The same columns without rows.
+    pub fn empty_like(&self) -> Table {
+        Table {
+            rows: 0,
+            columns: self
+                .columns
+                .iter()
+                .map(|c| Column {
+                    name: c.name.clone(),
+                    values: c.values.empty_like(),
+                    missing: None,
+                })
+                .collect(),
+        }
+    }
+
     /// Adds `time_s`, seconds since `start_ns`, after `log_time_ns`, and spreads list
     /// columns whose rows all have the same length `n > 0` into `n` columns `name.0`, ...
     /// (the deflected shape at the nodes), as `tools/read_run.py` made 2-D arrays of them.

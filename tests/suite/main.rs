@@ -20,6 +20,7 @@ mod environment;
 mod environment_run;
 mod examples;
 mod foxglove;
+mod input_decoders;
 mod inspect;
 mod interrupts;
 mod layers;

@@ -1,0 +1,159 @@
+"""Scenarios and runs from Python against the command line: the same checks, messages and
+bytes; the GIL released while a run goes; Ctrl-C stops it and keeps a .partial."""
+
+from __future__ import annotations
+
+import signal
+import subprocess
+import sys
+import textwrap
+import threading
+import time
+
+import pytest
+
+import bridgetwin
+from conftest import REPO, run_cli
+
+
+def test_default_scenario_is_the_cli_one():
+    scenario = bridgetwin.default_scenario()
+    assert scenario["bridge"]["span_m"] > 0
+    assert bridgetwin.check(scenario) == []
+    assert bridgetwin.check() == []
+
+
+@pytest.mark.parametrize(
+    "field, value",
+    [("bridge.span_m", -3.0), ("solver.dt_s", 0.0), ("vehicles.0.speed_m_s", float("inf"))],
+)
+def test_check_names_the_field_and_value_as_the_cli_does(scratch, field, value):
+    scenario = bridgetwin.default_scenario()
+    table, *rest = field.split(".")
+    target = scenario[table]
+    if rest[0].isdigit():
+        target = target[int(rest[0])]
+        rest = rest[1:]
+    target[rest[0]] = value
+    with pytest.raises(bridgetwin.ScenarioError) as raised:
+        bridgetwin.check(scenario)
+    message = str(raised.value)
+    assert field.split(".")[-1] in message
+    # The command line on the same TOML prints the same message after "error: ".
+    toml_text = bridgetwin._native.dict_to_toml(scenario)
+    path = scratch / "bad.toml"
+    path.write_text(toml_text)
+    cli = run_cli("scenario", "check", path, check=False)
+    assert cli.returncode in (1, 2), cli
+    with pytest.raises(bridgetwin.ScenarioError) as from_file:
+        bridgetwin.check(path)
+    assert str(from_file.value) in cli.stderr, (str(from_file.value), cli.stderr)
+
+
+def test_an_out_of_range_parameter_has_field_value_and_reason():
+    scenario = bridgetwin.default_scenario()
+    scenario["bridge"]["span_m"] = -3.0
+    with pytest.raises(bridgetwin.ScenarioError) as raised:
+        bridgetwin.check(scenario)
+    assert raised.value.field == "bridge.span_m"
+    assert raised.value.value == "-3"
+    assert str(raised.value) == f"bridge.span_m = -3 {raised.value.reason}"
+    assert "> 0" in raised.value.reason
+
+
+def test_toml_errors_name_the_key():
+    with pytest.raises(bridgetwin.ScenarioError, match="spam_m"):
+        bridgetwin.check("[bridge]\nspam_m = 3\n")
+
+
+def test_simulate_out_writes_the_cli_bytes(scratch):
+    example = REPO / "examples" / "two_trucks.toml"
+    run_cli("simulate", example, "--seed", 7, "--duration-s", 3, "--out", scratch / "cli.mcap", "--quiet")
+    files = bridgetwin.simulate(example, out=scratch / "py.mcap", seed=7, duration_s=3)
+    assert [str(f) for f in files] == [str(scratch / "py.mcap")]
+    assert (scratch / "py.mcap").read_bytes() == (scratch / "cli.mcap").read_bytes()
+    # A dict of the same scenario runs the same physics (the stored TOML text differs).
+    with pytest.raises(OSError, match="exists"):
+        bridgetwin.simulate(example, out=scratch / "py.mcap", seed=7, duration_s=3)
+    bridgetwin.simulate(example, out=scratch / "py.mcap", seed=7, duration_s=3, force=True)
+    assert (scratch / "py.mcap").read_bytes() == (scratch / "cli.mcap").read_bytes()
+
+
+def test_simulate_in_memory_equals_the_file(scratch):
+    run = bridgetwin.simulate(duration_s=2.0, seed=3)
+    bridgetwin.simulate(out=scratch / "f.mcap", duration_s=2.0, seed=3)
+    again = bridgetwin.read(scratch / "f.mcap")
+    assert list(run) == list(again)
+    for topic in run:
+        assert run[topic].equals(again[topic]), topic
+    assert run.scenario["seed"] == 3
+
+
+def test_a_bad_scenario_writes_nothing(scratch):
+    scenario = bridgetwin.default_scenario()
+    scenario["bridge"]["span_m"] = -1.0
+    with pytest.raises(bridgetwin.ScenarioError, match="span_m"):
+        bridgetwin.simulate(scenario, out=scratch / "x.mcap")
+    assert list(scratch.iterdir()) == []
+
+
+def test_simulate_releases_the_gil(scratch):
+    """While a run goes on another thread, this thread keeps running Python: with the GIL
+    held it would get no turn for the whole run (seconds)."""
+    done = threading.Event()
+    ticks = 0
+
+    def work():
+        bridgetwin.simulate(REPO / "examples" / "hour_of_traffic.toml", out=scratch / "gil.mcap", duration_s=600.0)
+        done.set()
+
+    worker = threading.Thread(target=work)
+    started = time.perf_counter()
+    worker.start()
+    gaps = []
+    last = time.perf_counter()
+    while not done.is_set():
+        now = time.perf_counter()
+        gaps.append(now - last)
+        last = now
+        ticks += 1
+        time.sleep(0.001)
+    worker.join()
+    took = time.perf_counter() - started
+    assert took > 0.5, f"the run took only {took:.2f} s: too short to show anything"
+    # Python's switch interval is 5 ms; a held GIL would leave one gap as long as the run.
+    assert max(gaps) < 0.25 * took, (max(gaps), took)
+    assert ticks > 50
+
+
+def test_ctrl_c_stops_the_run_and_keeps_a_partial(scratch):
+    out = scratch / "long.mcap"
+    script = textwrap.dedent(
+        f"""
+        import sys, bridgetwin
+        print("started", flush=True)
+        try:
+            bridgetwin.simulate(out={str(out)!r}, duration_s=100000.0)
+        except KeyboardInterrupt as e:
+            print("interrupted", e.partial, flush=True)
+            sys.exit(130)
+        print("finished", flush=True)
+        """
+    )
+    child = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True)
+    assert child.stdout.readline().strip() == "started"
+    time.sleep(2.0)
+    sent = time.perf_counter()
+    child.send_signal(signal.SIGINT)
+    rest, _ = child.communicate(timeout=30)
+    stopped_in = time.perf_counter() - sent
+    assert child.returncode == 130, rest
+    partial = out.with_name(out.name + ".partial")
+    assert rest.split() == ["interrupted", str(partial)]
+    assert not out.exists() and partial.exists()
+    assert stopped_in < 5.0, stopped_in
+    # A stopped run closes its file (summary and all): whole, only shorter.
+    run = bridgetwin.read(partial)
+    assert run.damage == []
+    accel = run[run.sensors("accel")[0]]
+    assert 0 < accel["time_s"].iloc[-1] < 100000.0

@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Seeds the fuzz corpora: every scenario of the repository for the parser; small runs
+# (both layouts, a split part, a killed run's .partial) for the MCAP readers. The corpora
+# and what the fuzzer finds stay out of git (tests/fuzz/.gitignore).
+# Usage, from the repository root, after `cargo build --release`:
+#   tests/fuzz/seed_corpus.sh
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+bt=./target/release/bridgetwin
+corpus=tests/fuzz/corpus
+mkdir -p "$corpus/scenario_parser" "$corpus/mcap_readers"
+cp src/scenario/default.toml "$corpus/scenario_parser/default.toml"
+for f in examples/*.toml examples/sweeps/*.toml; do
+  cp "$f" "$corpus/scenario_parser/$(basename "$f")"
+done
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+# Short runs keep the inputs small (tens of kB): the fuzzer mutates them faster.
+$bt simulate --duration-s 0.2 --out "$corpus/mcap_readers/default.mcap" --force --quiet
+$bt scenario show | sed 's/layout = "sample"/layout = "block"/' > "$tmp/block.toml"
+$bt simulate "$tmp/block.toml" --duration-s 0.2 --out "$corpus/mcap_readers/block.mcap" --force --quiet
+$bt scenario show | sed 's/^\[output\]/[output]\nsplit_every_s = 0.1/' > "$tmp/split.toml"
+$bt simulate "$tmp/split.toml" --duration-s 0.2 --out "$tmp/split.mcap" --force --quiet
+cp "$tmp"/split-0001.mcap "$corpus/mcap_readers/split-0001.mcap"
+head -c 20000 "$corpus/mcap_readers/default.mcap" > "$corpus/mcap_readers/cut.mcap"
+ls -la "$corpus"/*
