@@ -279,3 +279,31 @@ def _float(text: Any) -> float | None:
         return float(text)
     except (TypeError, ValueError):
         return None
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """``python -m bridgetwin.plot RUN [--out overview.png] [--sensors T ...]``: the
+    overview of a run (a file, a glob of hourly parts or a split run's name)."""
+    import argparse
+    import time
+
+    from ._read import read
+
+    p = argparse.ArgumentParser(prog="python -m bridgetwin.plot", description=main.__doc__)
+    p.add_argument("run", help="run.mcap, 'day-*.mcap' or day.mcap (its hourly parts)")
+    p.add_argument("--out", default="overview.png", help="the figure (.png, .svg, .pdf); default overview.png")
+    p.add_argument("--sensors", nargs="*", help="sensor topics to draw (default: a few representative ones)")
+    p.add_argument("--buckets", type=int, default=2000, help="min/max buckets per series (2000)")
+    args = p.parse_args(argv)
+    import matplotlib
+
+    matplotlib.use("Agg")
+    started = time.perf_counter()
+    run = read(args.run)
+    overview(run, sensors=args.sensors, out=args.out, buckets=args.buckets)
+    print(f"{args.out}: {run!r}, drawn in {time.perf_counter() - started:.1f} s")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -60,3 +60,18 @@ def test_quickstart_runs_and_finds_f1(tmp_path):
     done = subprocess.run([sys.executable, str(script), str(tmp_path / "q.png")], capture_output=True, text=True, cwd=tmp_path)
     assert done.returncode == 0, done.stdout + done.stderr
     assert "f1: identified" in done.stdout and (tmp_path / "q.png").stat().st_size > 20_000
+
+
+def test_the_command_line_draws_split_runs(runs, tmp_path):
+    import subprocess
+    import sys
+
+    from conftest import REPO
+
+    out = tmp_path / "day.png"
+    done = subprocess.run(
+        [sys.executable, str(REPO / "tools" / "plot_run.py"), str(runs / "day.mcap"), "--out", str(out)],
+        capture_output=True, text=True,
+    )
+    assert done.returncode == 0, done.stderr
+    assert "3 file(s)" in done.stdout and out.stat().st_size > 20_000

@@ -3,14 +3,16 @@
 //! time loop.
 //!
 //! - [`read_records`]: one pass over an MCAP file that nothing in the file can crash
-//!   (lengths checked against the file's size before anything is allocated, chunk CRCs
-//!   checked before their records are handed on); damage ends the pass with a
+//!   (lengths checked against the file's size before anything is allocated, the lengths
+//!   inside each record against the record before it is parsed, chunk CRCs checked
+//!   before their records are handed on); damage ends the pass with a
 //!   [`Damage`] that says where the intact part ends. `inspect`, `simulate --from` and
 //!   the Python package read through it.
 //! - [`read_run`]: a run (one file, or the hourly parts of a split run in time order) as
 //!   one [`Table`] per topic, with its metadata and attachments.
 
 mod decode;
+mod record_lengths;
 mod run;
 mod stream;
 mod table;

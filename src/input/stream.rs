@@ -15,6 +15,7 @@ use std::path::Path;
 use mcap::records::Record;
 use mcap::sans_io::{LinearReadEvent, LinearReader, LinearReaderOptions};
 
+use super::record_lengths::check_record_lengths;
 use crate::error::{Error, Result};
 
 /// The largest record (or decompressed chunk) a file of `file_len` bytes may hold: the
@@ -142,7 +143,9 @@ pub fn read_records(
                 continue;
             }
             Ok(LinearReadEvent::Record { opcode, data }) => {
-                match mcap::parse_record(opcode, data) {
+                let parsed = check_record_lengths(opcode, data)
+                    .and_then(|()| mcap::parse_record(opcode, data).map_err(|e| e.to_string()));
+                match parsed {
                     Ok(record) => {
                         if let Record::Message { header, .. } = &record {
                             messages += 1;

@@ -16,11 +16,11 @@ done
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 # Short runs keep the inputs small (tens of kB): the fuzzer mutates them faster.
-$bt simulate --duration-s 0.2 --out "$corpus/mcap_readers/default.mcap" --force --quiet
+$bt simulate --quiet --duration-s 0.2 --out "$corpus/mcap_readers/default.mcap" --force
 $bt scenario show | sed 's/layout = "sample"/layout = "block"/' > "$tmp/block.toml"
-$bt simulate "$tmp/block.toml" --duration-s 0.2 --out "$corpus/mcap_readers/block.mcap" --force --quiet
-$bt scenario show | sed 's/^\[output\]/[output]\nsplit_every_s = 0.1/' > "$tmp/split.toml"
-$bt simulate "$tmp/split.toml" --duration-s 0.2 --out "$tmp/split.mcap" --force --quiet
+$bt simulate --quiet "$tmp/block.toml" --duration-s 0.2 --out "$corpus/mcap_readers/block.mcap" --force
+$bt scenario show | sed 's/^\[output\]/[output]\nsplit_every_s = 1.0/' > "$tmp/split.toml"
+$bt simulate --quiet "$tmp/split.toml" --duration-s 1.2 --out "$tmp/split.mcap" --force
 cp "$tmp"/split-0001.mcap "$corpus/mcap_readers/split-0001.mcap"
 head -c 20000 "$corpus/mcap_readers/default.mcap" > "$corpus/mcap_readers/cut.mcap"
 ls -la "$corpus"/*

@@ -230,3 +230,33 @@ fn inspect_exits_3_on_damage_and_1_on_garbage() {
     let (code, _, stderr) = inspect_exit("garbage.mcap", b"not an mcap file at all");
     assert_eq!(code, Some(1), "{stderr}");
 }
+
+/// Found by fuzzing the readers (tests/fuzz, `mcap_readers`): a flipped byte in the
+/// length of a metadata value made the `mcap` crate's parser reserve 4 GB for a record of
+/// a few kB. The lengths inside every record are now checked against the record before
+/// it is parsed: the damage is reported as a corrupted length, with nothing reserved.
+#[test]
+fn a_corrupted_length_inside_a_record_is_damage_not_an_allocation() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut bytes = original(dir.path());
+    // The `scenario` metadata record's map: key "toml", then the value's u32 length.
+    let key = b"\x04\x00\x00\x00toml";
+    let at = bytes
+        .windows(key.len())
+        .position(|w| w == key)
+        .expect("the scenario metadata's toml key")
+        + key.len();
+    bytes[at..at + 4].copy_from_slice(&0xFF00_0005u32.to_le_bytes());
+    let path = dir.path().join("long_value.mcap");
+    std::fs::write(&path, &bytes).unwrap();
+    let run = read_run(std::slice::from_ref(&path), &ReadOptions::default()).unwrap();
+    let (_, damage) = run.damage().next().expect("reported as damaged");
+    assert!(
+        damage.reason.contains("claims 4278190085 bytes")
+            && damage.reason.contains("corrupted length"),
+        "{damage}"
+    );
+    let report = inspect(&path).unwrap();
+    assert!(report.damage.unwrap().contains("corrupted length"));
+    assert!(scenario_from_mcap(&path).is_err());
+}
