@@ -11,6 +11,7 @@
 //! - [`read_run`]: a run (one file, or the hourly parts of a split run in time order) as
 //!   one [`Table`] per topic, with its metadata and attachments.
 
+mod chunks;
 mod decode;
 mod record_lengths;
 mod run;

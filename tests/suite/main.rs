@@ -21,6 +21,7 @@ mod environment_run;
 mod examples;
 mod foxglove;
 mod input_decoders;
+mod input_read;
 mod inspect;
 mod interrupts;
 mod layers;
