@@ -2,7 +2,7 @@
 """Plot a bridgetwin run: the Python package's overview (``bridgetwin.plot.overview``).
 
     python3 tools/plot_run.py run.mcap --out run.png        # or 'day-*.mcap', day.mcap
-    python3 -m bridgetwin.plot run.mcap --out run.png       # the same
+    python3 -m bridgetwin run.mcap --out run.png       # the same
 
 Needs the package: ``pip install ./python`` (see the README). The overview draws a few
 representative accelerometers, strain and deflection with each vehicle's time on the

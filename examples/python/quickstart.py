@@ -1,6 +1,5 @@
-"""Simulate 2 min of ambient monitoring, plot the overview, identify f1 with pyOMA2 and
-score it against the truth: python examples/python/quickstart.py [overview.png]"""
-import logging
+"""Simulate 2 min of ambient monitoring, read it, plot the overview, identify f1 with pyOMA2
+and score it against the truth: python examples/python/quickstart.py [overview.png]"""
 import sys
 from pathlib import Path
 
@@ -10,14 +9,14 @@ from pyoma2.algorithms import FDD
 from pyoma2.setup import SingleSetup
 
 scenario = Path(__file__).resolve().parents[1] / "ambient_monitoring.toml"
-run = bridgetwin.simulate(scenario, duration_s=120.0)  # in memory: topic -> pandas DataFrame
+bridgetwin.simulate(scenario, out="ambient.mcap", duration_s=120.0, force=True)  # the CLI's bytes
+run = bridgetwin.read("ambient.mcap")  # topic -> pandas DataFrame, decoded in Rust
 bridgetwin.plot.overview(run, out=sys.argv[1] if len(sys.argv) > 1 else "overview.png")
 
 accel = run.sensors("accel")  # /sensors/accel/<id>, vertical accelerations (m/s²)
 rate_hz = float(run[accel[0]].attrs["sample_rate_hz"])
 rows = min(len(run[t]) for t in accel)
 data = np.column_stack([run[t]["acceleration_m_s2"].to_numpy()[:rows] for t in accel])
-logging.disable(logging.INFO)  # pyOMA2 logs every step
 setup = SingleSetup(data - data.mean(axis=0), fs=rate_hz)
 setup.add_algorithms(FDD(name="FDD", nxseg=1024, method_SD="per"))
 setup.run_all()

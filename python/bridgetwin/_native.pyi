@@ -7,6 +7,7 @@ function here exists in the extension with these parameter names, and the revers
 
 from collections.abc import Sequence
 from os import PathLike
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -57,7 +58,7 @@ def simulate(
     seed: int | None = None,
     duration_s: float | None = None,
     force: bool = False,
-) -> list[str]:
+) -> list[Path]:
     """Runs a scenario into ``out`` off the GIL; returns the files written. Ctrl-C raises
     KeyboardInterrupt with ``partial`` (the ``.partial`` file kept)."""
 

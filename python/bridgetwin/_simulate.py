@@ -71,12 +71,21 @@ def simulate(
     not hold the GIL, so threads (``concurrent.futures.ThreadPoolExecutor``) run several
     at once on several cores. Ctrl-C stops it at the next step and raises
     KeyboardInterrupt; the data written so far stay in ``<out>.partial`` (its ``partial``
-    attribute), as with the command line.
+    attribute), as with the command line; with ``out=None`` the run so far is its ``run``
+    attribute instead.
     """
     kwargs = dict(_source(scenario), seed=seed, duration_s=duration_s, force=force)
     if out is not None:
         return [Path(p) for p in _native.simulate(os.fspath(out), **kwargs)]
     with tempfile.TemporaryDirectory(prefix="bridgetwin-") as folder:
         target = Path(folder) / "run.mcap"
-        files = _native.simulate(os.fspath(target), **kwargs)
+        try:
+            files = _native.simulate(os.fspath(target), **kwargs)
+        except KeyboardInterrupt as e:
+            # The temporary folder goes with this call: what ran so far comes back on the
+            # exception as `run` (its `partial` file is gone).
+            partial = getattr(e, "partial", None)
+            e.run = read(partial) if partial and Path(partial).exists() else None
+            e.partial = None
+            raise
         return read(files)

@@ -282,14 +282,14 @@ def _float(text: Any) -> float | None:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """``python -m bridgetwin.plot RUN [--out overview.png] [--sensors T ...]``: the
-    overview of a run (a file, a glob of hourly parts or a split run's name)."""
+    """``python -m bridgetwin RUN [--out overview.png] [--sensors T ...]``: the overview of
+    a run (a file, a glob of hourly parts or a split run's name)."""
     import argparse
     import time
 
     from ._read import read
 
-    p = argparse.ArgumentParser(prog="python -m bridgetwin.plot", description=main.__doc__)
+    p = argparse.ArgumentParser(prog="python -m bridgetwin", description=main.__doc__)
     p.add_argument("run", help="run.mcap, 'day-*.mcap' or day.mcap (its hourly parts)")
     p.add_argument("--out", default="overview.png", help="the figure (.png, .svg, .pdf); default overview.png")
     p.add_argument("--sensors", nargs="*", help="sensor topics to draw (default: a few representative ones)")
@@ -304,6 +304,3 @@ def main(argv: Sequence[str] | None = None) -> int:
     print(f"{args.out}: {run!r}, drawn in {time.perf_counter() - started:.1f} s")
     return 0
 
-
-if __name__ == "__main__":
-    raise SystemExit(main())

@@ -123,6 +123,8 @@ def assert_times_shifted(topic: str, frame: pd.DataFrame, columns: dict[str, np.
 
 def compare_run(run: bridgetwin.Run, ref: dict[str, dict[str, np.ndarray]]) -> int:
     """Asserts every reference column of every topic equals ours; returns values compared."""
+    # Only the Foxglove scene is not decoded (it is for the 3D panel, not for pipelines).
+    assert run.undecoded == {"/scene": "foxglove.SceneUpdate"}, run.undecoded
     decoded = set(ref) - set(run.undecoded)
     assert set(run) == decoded, f"topics differ: {sorted(set(run) ^ decoded)}"
     compared, shift = 0, []

@@ -48,6 +48,7 @@ def test_check_names_the_field_and_value_as_the_cli_does(scratch, field, value):
     with pytest.raises(bridgetwin.ScenarioError) as from_file:
         bridgetwin.check(path)
     assert str(from_file.value) in cli.stderr, (str(from_file.value), cli.stderr)
+    assert str(raised.value) == str(from_file.value)
 
 
 def test_an_out_of_range_parameter_has_field_value_and_reason():
@@ -72,7 +73,6 @@ def test_simulate_out_writes_the_cli_bytes(scratch):
     files = bridgetwin.simulate(example, out=scratch / "py.mcap", seed=7, duration_s=3)
     assert [str(f) for f in files] == [str(scratch / "py.mcap")]
     assert (scratch / "py.mcap").read_bytes() == (scratch / "cli.mcap").read_bytes()
-    # A dict of the same scenario runs the same physics (the stored TOML text differs).
     with pytest.raises(OSError, match="exists"):
         bridgetwin.simulate(example, out=scratch / "py.mcap", seed=7, duration_s=3)
     bridgetwin.simulate(example, out=scratch / "py.mcap", seed=7, duration_s=3, force=True)
@@ -87,6 +87,23 @@ def test_simulate_in_memory_equals_the_file(scratch):
     for topic in run:
         assert run[topic].equals(again[topic]), topic
     assert run.scenario["seed"] == 3
+
+
+def test_numpy_values_in_a_dict_keep_their_types(scratch):
+    import numpy as np
+
+    scenario = bridgetwin.default_scenario()
+    scenario["seed"] = np.int64(11)
+    scenario["bridge"]["damping_ratio"] = np.float64(0.025)
+    run = bridgetwin.simulate(scenario, duration_s=np.float32(1.0))
+    assert run.scenario["seed"] == 11 and isinstance(run.scenario["seed"], int)
+    assert run.scenario["bridge"]["damping_ratio"] == 0.025
+    loop = {}
+    loop["self"] = loop
+    with pytest.raises(TypeError, match="levels deep"):
+        bridgetwin.check(loop)
+    with pytest.raises(TypeError, match="64-bit"):
+        bridgetwin.check({"seed": 2**70})
 
 
 def test_a_bad_scenario_writes_nothing(scratch):
@@ -157,3 +174,25 @@ def test_ctrl_c_stops_the_run_and_keeps_a_partial(scratch):
     assert run.damage == []
     accel = run[run.sensors("accel")[0]]
     assert 0 < accel["time_s"].iloc[-1] < 100000.0
+
+
+def test_ctrl_c_in_memory_hands_back_the_run_so_far():
+    script = textwrap.dedent(
+        """
+        import sys, bridgetwin
+        print("started", flush=True)
+        try:
+            bridgetwin.simulate(duration_s=100000.0)
+        except KeyboardInterrupt as e:
+            accel = e.run[e.run.sensors("accel")[0]]
+            print("interrupted", len(accel) > 0, e.partial, flush=True)
+            sys.exit(130)
+        """
+    )
+    child = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True)
+    assert child.stdout.readline().strip() == "started"
+    time.sleep(2.0)
+    child.send_signal(signal.SIGINT)
+    rest, _ = child.communicate(timeout=60)
+    assert child.returncode == 130, rest
+    assert rest.split() == ["interrupted", "True", "None"]

@@ -4,11 +4,16 @@
 //! a chunk is handed on only whole and with its CRC checked, as before.
 
 use std::io::Read;
+use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{sync_channel, Receiver, SyncSender};
 use std::sync::{Arc, Mutex};
-use std::thread::Scope;
+use std::thread::{Scope, ScopedJoinHandle};
 
 use mcap::records::ChunkHeader;
+
+/// What a chunk gives: its decompressed records, or why it is damaged.
+pub type ChunkRecords = Result<Vec<u8>, String>;
 
 /// A chunk to decompress: its header, compressed records and where the reply goes.
 struct Job {
@@ -17,42 +22,40 @@ struct Job {
     uncompressed_crc: u32,
     compressed: Vec<u8>,
     limit_bytes: usize,
-    reply: SyncSender<Result<Vec<u8>, String>>,
+    reply: SyncSender<ChunkRecords>,
 }
 
-/// Worker threads that decompress chunks; dropped, they finish their job and stop.
-pub struct ChunkPool {
-    jobs: SyncSender<Job>,
-    workers: usize,
+/// Worker threads that decompress chunks. [`ChunkPool::finish`] (or dropping it) stops
+/// them: jobs not started are skipped, and the threads are joined to their end.
+pub struct ChunkPool<'scope> {
+    jobs: Option<SyncSender<Job>>,
+    threads: Vec<ScopedJoinHandle<'scope, ()>>,
+    cancelled: Arc<AtomicBool>,
 }
 
-impl ChunkPool {
+impl<'scope> ChunkPool<'scope> {
     /// Starts `workers` threads in `scope` (at least one).
-    pub fn start<'scope>(scope: &'scope Scope<'scope, '_>, workers: usize) -> ChunkPool {
-        let (jobs, queue) = sync_channel::<Job>(workers.max(1) * 2);
+    pub fn start(scope: &'scope Scope<'scope, '_>, workers: usize) -> ChunkPool<'scope> {
+        let workers = workers.max(1);
+        let (jobs, queue) = sync_channel::<Job>(workers * 2);
         let queue = Arc::new(Mutex::new(queue));
-        for _ in 0..workers.max(1) {
-            let queue = Arc::clone(&queue);
-            scope.spawn(move || loop {
-                // The lock is held only to take the next job.
-                let job = match queue.lock() {
-                    Ok(queue) => queue.recv(),
-                    Err(_) => return,
-                };
-                let Ok(job) = job else { return };
-                let result = decompress(&job);
-                // The reader may have stopped and dropped the receiver: nothing to do.
-                let _ = job.reply.send(result);
-            });
-        }
+        let cancelled = Arc::new(AtomicBool::new(false));
+        let threads = (0..workers)
+            .map(|_| {
+                let queue = Arc::clone(&queue);
+                let cancelled = Arc::clone(&cancelled);
+                scope.spawn(move || work(&queue, &cancelled))
+            })
+            .collect();
         ChunkPool {
-            jobs,
-            workers: workers.max(1),
+            jobs: Some(jobs),
+            threads,
+            cancelled,
         }
     }
 
     pub fn workers(&self) -> usize {
-        self.workers
+        self.threads.len()
     }
 
     /// Queues a chunk; its records (or why it is damaged) arrive on the receiver.
@@ -61,7 +64,7 @@ impl ChunkPool {
         header: &ChunkHeader,
         compressed: &[u8],
         limit_bytes: usize,
-    ) -> Receiver<Result<Vec<u8>, String>> {
+    ) -> Receiver<ChunkRecords> {
         let (reply, records) = sync_channel(1);
         let job = Job {
             compression: header.compression.clone(),
@@ -71,24 +74,74 @@ impl ChunkPool {
             limit_bytes,
             reply,
         };
-        if let Err(failed) = self.jobs.send(job) {
-            // Every worker is gone (it cannot happen while the pool lives): do it here.
-            let job = failed.0;
-            let _ = job.reply.send(decompress(&job));
+        let sent = match &self.jobs {
+            Some(jobs) => jobs.send(job).map_err(|failed| failed.0),
+            None => Err(job),
+        };
+        if let Err(job) = sent {
+            // No worker takes jobs any more (it cannot happen while the pool lives).
+            let reply = job.reply.clone();
+            let _ = reply.send(guarded(job));
         }
         records
     }
+
+    /// Stops the workers (jobs not yet started are dropped) and waits until every thread
+    /// has ended, its thread-local state freed with it.
+    pub fn finish(mut self) {
+        self.stop();
+    }
+
+    fn stop(&mut self) {
+        self.cancelled.store(true, Ordering::Relaxed);
+        self.jobs = None;
+        for thread in self.threads.drain(..) {
+            // A worker's panic was already turned into a damaged chunk.
+            let _ = thread.join();
+        }
+    }
+}
+
+impl Drop for ChunkPool<'_> {
+    fn drop(&mut self) {
+        self.stop();
+    }
+}
+
+/// A worker: takes jobs until the pool is finished, skipping them once it is cancelled.
+fn work(queue: &Mutex<Receiver<Job>>, cancelled: &AtomicBool) {
+    loop {
+        // The lock is held only to take the next job.
+        let job = match queue.lock() {
+            Ok(queue) => queue.recv(),
+            Err(_) => return,
+        };
+        let Ok(job) = job else { return };
+        if cancelled.load(Ordering::Relaxed) {
+            continue;
+        }
+        let reply = job.reply.clone();
+        // The reader may have stopped and dropped the receiver: nothing to do.
+        let _ = reply.send(guarded(job));
+    }
+}
+
+/// [`decompress`], with a panic in a codec reported as damage instead of crossing threads.
+fn guarded(job: Job) -> ChunkRecords {
+    catch_unwind(AssertUnwindSafe(|| decompress(job)))
+        .unwrap_or_else(|_| Err("decompressing a chunk failed (the codec panicked)".into()))
 }
 
 /// The threads to decompress with: the cores there are, at most 8 (more do not help a
 /// pass that also reads and decodes on one thread).
-pub fn workers() -> usize {
+pub fn default_workers() -> usize {
     std::thread::available_parallelism().map_or(1, |n| n.get().clamp(1, 8))
 }
 
 /// A chunk's records, decompressed and checked against its stated size and CRC. The
-/// output grows only with bytes really decompressed, never beyond the stated size.
-fn decompress(job: &Job) -> Result<Vec<u8>, String> {
+/// output grows only with bytes really decompressed, never beyond the stated size (which
+/// the reader also counts against its budget of queued bytes).
+fn decompress(job: Job) -> ChunkRecords {
     let size = usize::try_from(job.uncompressed_size)
         .ok()
         .filter(|&s| s <= job.limit_bytes)
@@ -99,7 +152,7 @@ fn decompress(job: &Job) -> Result<Vec<u8>, String> {
             )
         })?;
     let records = match job.compression.as_str() {
-        "" => job.compressed.clone(),
+        "" => job.compressed,
         "zstd" => read_at_most(
             zstd::stream::read::Decoder::with_buffer(&job.compressed[..])
                 .map_err(|e| format!("a zstd chunk does not decompress: {e}"))?,
@@ -197,24 +250,24 @@ mod tests {
         let n = records.len() as u64;
         let zstd = zstd::bulk::compress(&records, 3).unwrap();
         assert_eq!(
-            decompress(&job("zstd", zstd.clone(), n, crc)),
+            decompress(job("zstd", zstd.clone(), n, crc)),
             Ok(records.clone())
         );
         assert_eq!(
-            decompress(&job("", records.clone(), n, 0)),
+            decompress(job("", records.clone(), n, 0)),
             Ok(records.clone())
         );
-        let e = decompress(&job("zstd", zstd.clone(), n, crc ^ 1)).unwrap_err();
+        let e = decompress(job("zstd", zstd.clone(), n, crc ^ 1)).unwrap_err();
         assert!(e.contains("CRC mismatch"), "{e}");
-        let e = decompress(&job("zstd", zstd.clone(), n - 1, 0)).unwrap_err();
+        let e = decompress(job("zstd", zstd.clone(), n - 1, 0)).unwrap_err();
         assert!(e.contains("header says"), "{e}");
-        let e = decompress(&job("zstd", zstd, 1 << 40, 0)).unwrap_err();
+        let e = decompress(job("zstd", zstd, 1 << 40, 0)).unwrap_err();
         assert!(e.contains("corrupted length"), "{e}");
-        let e = decompress(&job("brotli", vec![], 0, 0)).unwrap_err();
+        let e = decompress(job("brotli", vec![], 0, 0)).unwrap_err();
         assert!(e.contains("not supported"), "{e}");
         let mut garbage = zstd::bulk::compress(&records, 3).unwrap();
         garbage[10] ^= 0xFF;
-        assert!(decompress(&job("zstd", garbage, n, crc)).is_err());
+        assert!(decompress(job("zstd", garbage, n, crc)).is_err());
     }
 
     #[test]

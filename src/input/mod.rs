@@ -20,5 +20,5 @@ mod table;
 
 pub use decode::{block_value_name, Decoder};
 pub use run::{read_run, topic_matches, PartRead, ReadOptions, RunData, TopicData};
-pub use stream::{read_records, record_limit_bytes, Damage, End, Flow, Pass};
+pub use stream::{read_records, read_records_with, record_limit_bytes, Damage, End, Flow, Pass};
 pub use table::{Column, Table, TableBuilder, Values};

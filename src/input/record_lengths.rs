@@ -45,7 +45,8 @@ pub fn check_record_lengths(opcode: u8, data: &[u8]) -> Result<(), String> {
             .skip(16, "times")
             .and_then(|_| r.string("name"))
             .and_then(|_| r.string("media_type"))
-            .and_then(|_| r.bytes_u64("data")),
+            .and_then(|_| r.bytes_u64("data"))
+            .and_then(|_| r.skip(4, "crc")),
         // Attachment index: offset, length, times, data size, name, media type.
         0x0A => r
             .skip(40, "offset, length, times and size")
@@ -203,5 +204,36 @@ mod tests {
         }
         // A record with fixed fields only is the parser's to check.
         assert_eq!(check_record_lengths(0x05, &[]), Ok(()));
+    }
+
+    /// An attachment without the 4 bytes of its CRC after its data made the `mcap`
+    /// parser slice past the record's end (a panic): refused here first.
+    #[test]
+    fn an_attachment_without_room_for_its_crc_is_refused() {
+        let mut body = vec![0u8; 16];
+        body.extend(string(""));
+        body.extend(string(""));
+        body.extend(0u64.to_le_bytes());
+        let e = check_record_lengths(0x09, &body).unwrap_err();
+        assert!(e.contains("crc need 4 bytes"), "{e}");
+        body.extend([0u8; 4]);
+        assert_eq!(check_record_lengths(0x09, &body), Ok(()));
+        assert!(mcap::parse_record(0x09, &body).is_ok());
+    }
+
+    #[test]
+    fn the_other_records_with_lengths_are_checked_too() {
+        // Message index, attachment index, metadata index: a length past the end.
+        let huge = 0xFFFF_FFFFu32.to_le_bytes();
+        let cases: [(u8, Vec<u8>, &str); 4] = [
+            (0x07, [vec![0, 0], huge.to_vec()].concat(), "records claims"),
+            (0x0A, [vec![0; 40], huge.to_vec()].concat(), "name claims"),
+            (0x0D, [vec![0; 16], huge.to_vec()].concat(), "name claims"),
+            (0x01, huge.to_vec(), "profile claims"),
+        ];
+        for (opcode, body, want) in cases {
+            let e = check_record_lengths(opcode, &body).unwrap_err();
+            assert!(e.contains(want), "{opcode:#x}: {e}");
+        }
     }
 }

@@ -12,12 +12,12 @@ use std::collections::VecDeque;
 use std::fs::File;
 use std::io::{BufReader, ErrorKind, Read};
 use std::path::Path;
-use std::sync::mpsc::Receiver;
+use std::sync::mpsc::{Receiver, TryRecvError};
 
 use mcap::records::Record;
 use mcap::sans_io::{LinearReadEvent, LinearReader, LinearReaderOptions};
 
-use super::chunks::{chunk_records, workers, ChunkPool};
+use super::chunks::{chunk_records, default_workers, ChunkPool, ChunkRecords};
 use super::record_lengths::check_record_lengths;
 use crate::error::{Error, Result};
 
@@ -103,10 +103,20 @@ impl Pass {
 /// `visit`, in file order. A visitor's `Err(reason)` counts as damage at that record (a
 /// message that does not decode). Fails only when the file cannot be opened or read, or
 /// holds no MCAP header at all (bad magic, empty, garbage); every later problem is a
-/// [`Damage`]. Chunks are decompressed and checked on worker threads ([`ChunkPool`])
-/// while this thread reads on; a chunk's records are handed on only when its CRC holds.
+/// [`Damage`]. Chunks are decompressed and checked on worker threads ([`ChunkPool`], one
+/// per core up to 8) while this thread reads on; a chunk's records are handed on only
+/// when its CRC holds.
 pub fn read_records(
     path: &Path,
+    visit: impl FnMut(Record<'_>) -> std::result::Result<Flow, String>,
+) -> Result<Pass> {
+    read_records_with(path, default_workers(), visit)
+}
+
+/// [`read_records`] with `workers` decompression threads (at least one).
+pub fn read_records_with(
+    path: &Path,
+    workers: usize,
     visit: impl FnMut(Record<'_>) -> std::result::Result<Flow, String>,
 ) -> Result<Pass> {
     let label = path.display().to_string();
@@ -118,7 +128,7 @@ pub fn read_records(
     let file_bytes = file.metadata().map_err(io_error)?.len();
     let source = BufReader::with_capacity(1 << 20, file);
     std::thread::scope(|scope| {
-        let pool = ChunkPool::start(scope, workers());
+        let pool = ChunkPool::start(scope, workers);
         let mut pass = Visits {
             visit,
             file_bytes,
@@ -126,8 +136,9 @@ pub fn read_records(
             records: 0,
             last_log_time_ns: None,
         };
-        let end = pass.read(source, &pool, file_bytes).map_err(io_error)?;
-        match end {
+        let end = pass.read(source, &pool, file_bytes);
+        pool.finish();
+        match end.map_err(io_error)? {
             End::Damaged(d) if pass.records == 0 => Err(Error::File {
                 path: label.clone(),
                 reason: format!("not an MCAP file ({})", d.reason),
@@ -141,19 +152,73 @@ pub fn read_records(
     })
 }
 
-/// At most this many chunks per worker wait in the queue: enough to keep every worker
-/// busy, few enough to bound memory (a chunk is about 1 MiB). The records between them
-/// (a message index per channel after each chunk) wait with them.
+/// The queue waits for its oldest chunk when it holds more than this many chunks per
+/// worker, or more than [`QUEUE_BUDGET_BYTES`] of them (their stated sizes, compressed and
+/// decompressed): enough to keep every worker busy, little enough to bound memory
+/// whatever sizes a damaged file's chunks claim (a chunk is about 1 MiB). Anything ready
+/// is handed on at once, so a visitor that stops early stops the pass early.
 const CHUNKS_QUEUED_PER_WORKER: usize = 4;
+const QUEUE_BUDGET_BYTES: u64 = 64 << 20;
 
 /// A record read, or a chunk being decompressed, waiting its turn.
 enum Queued {
-    Record(Record<'static>),
-    Chunk {
-        records: Receiver<std::result::Result<Vec<u8>, String>>,
-        /// Bytes read when the chunk was: where its damage would be.
-        end_byte: u64,
+    Record {
+        record: Record<'static>,
+        /// Bytes read when the record was: where its damage would be.
+        at_byte: u64,
     },
+    Chunk {
+        records: Receiver<ChunkRecords>,
+        ready: Option<ChunkRecords>,
+        end_byte: u64,
+        /// Its stated size, compressed and decompressed (the budget's share).
+        bytes: u64,
+    },
+}
+
+/// The queue of a pass and what it holds.
+#[derive(Default)]
+struct Queue {
+    items: VecDeque<Queued>,
+    chunks: usize,
+    bytes: u64,
+}
+
+impl Queue {
+    fn push(&mut self, item: Queued) {
+        if let Queued::Chunk { bytes, .. } = &item {
+            self.chunks += 1;
+            self.bytes += bytes;
+        }
+        self.items.push_back(item);
+    }
+
+    /// The oldest item if it can be handed on: a record, or a chunk that is ready, or,
+    /// when the queue is over its budget or `wait` is set, the oldest chunk once it is.
+    fn pop_ready(&mut self, max_chunks: usize, wait: bool) -> Option<Queued> {
+        let over = self.chunks > max_chunks || self.bytes > QUEUE_BUDGET_BYTES;
+        if let Queued::Chunk { records, ready, .. } = self.items.front_mut()? {
+            if ready.is_none() {
+                let result = if over || wait {
+                    records.recv().map_err(|_| ())
+                } else {
+                    match records.try_recv() {
+                        Ok(r) => Ok(r),
+                        Err(TryRecvError::Empty) => return None,
+                        Err(TryRecvError::Disconnected) => Err(()),
+                    }
+                };
+                *ready =
+                    Some(result.unwrap_or_else(|()| Err("a chunk's decompression stopped".into())));
+            }
+        }
+        let item = self.items.pop_front()?;
+        if let Queued::Chunk { bytes, .. } = &item {
+            self.chunks -= 1;
+            self.bytes -= bytes;
+        }
+        Some(item)
+    }
 }
 
 /// What is handed on, and the counts the damage report needs.
@@ -177,7 +242,7 @@ impl<V: FnMut(Record<'_>) -> std::result::Result<Flow, String>> Visits<V> {
     fn read(
         &mut self,
         mut source: impl Read,
-        pool: &ChunkPool,
+        pool: &ChunkPool<'_>,
         file_bytes: u64,
     ) -> std::io::Result<End> {
         let limit = record_limit_bytes(file_bytes);
@@ -191,8 +256,8 @@ impl<V: FnMut(Record<'_>) -> std::result::Result<Flow, String>> Visits<V> {
                 .with_validate_summary_section_crc(true)
                 .with_record_length_limit(limit),
         );
-        let mut queue: VecDeque<Queued> = VecDeque::new();
-        let (mut chunks, max_chunks) = (0usize, pool.workers() * CHUNKS_QUEUED_PER_WORKER);
+        let max_chunks = pool.workers() * CHUNKS_QUEUED_PER_WORKER;
+        let mut queue = Queue::default();
         let mut read_bytes = 0u64;
         let mut found: Option<String> = None;
         while let Some(event) = reader.next_event() {
@@ -210,25 +275,20 @@ impl<V: FnMut(Record<'_>) -> std::result::Result<Flow, String>> Visits<V> {
                 Err(e) => Err(describe(&e, read_bytes, file_bytes)),
             };
             match queued {
-                Ok(item) => {
-                    chunks += usize::from(matches!(item, Queued::Chunk { .. }));
-                    queue.push_back(item);
-                }
+                Ok(item) => queue.push(item),
                 Err(reason) => {
                     found = Some(reason);
                     break;
                 }
             }
-            while chunks > max_chunks {
-                let front = queue.pop_front();
-                chunks -= usize::from(matches!(front, Some(Queued::Chunk { .. })));
-                if let Step::End(end) = self.hand_on(front, read_bytes) {
+            while let Some(item) = queue.pop_ready(max_chunks, false) {
+                if let Step::End(end) = self.hand_on(item) {
                     return Ok(end);
                 }
             }
         }
-        while let Some(item) = queue.pop_front() {
-            if let Step::End(end) = self.hand_on(Some(item), read_bytes) {
+        while let Some(item) = queue.pop_ready(max_chunks, true) {
+            if let Step::End(end) = self.hand_on(item) {
                 return Ok(end);
             }
         }
@@ -239,38 +299,34 @@ impl<V: FnMut(Record<'_>) -> std::result::Result<Flow, String>> Visits<V> {
     }
 
     /// Hands on one queued item (a chunk: each of its records).
-    fn hand_on(&mut self, item: Option<Queued>, read_bytes: u64) -> Step {
-        match item {
-            None => Step::Go,
-            Some(Queued::Record(record)) => self.one(record, read_bytes),
-            Some(Queued::Chunk { records, end_byte }) => {
-                let records = records
-                    .recv()
-                    .unwrap_or_else(|_| Err("a chunk's decompression stopped".into()));
-                let records = match records {
-                    Ok(records) => records,
-                    Err(reason) => return Step::End(End::Damaged(self.damage(reason, end_byte))),
-                };
-                for next in chunk_records(&records) {
-                    let parsed = next.and_then(|(opcode, body)| {
-                        check_record_lengths(opcode, body)?;
-                        mcap::parse_record(opcode, body).map_err(|e| {
-                            format!(
-                                "record with opcode {opcode:#04x} in a chunk does not parse: {e}"
-                            )
-                        })
-                    });
-                    let step = match parsed {
-                        Ok(record) => self.one(record, end_byte),
-                        Err(reason) => Step::End(End::Damaged(self.damage(reason, end_byte))),
-                    };
-                    if let Step::End(end) = step {
-                        return Step::End(end);
-                    }
-                }
-                Step::Go
+    fn hand_on(&mut self, item: Queued) -> Step {
+        let (records, end_byte) = match item {
+            Queued::Record { record, at_byte } => return self.one(record, at_byte),
+            Queued::Chunk {
+                ready, end_byte, ..
+            } => (ready, end_byte),
+        };
+        let records = match records {
+            Some(Ok(records)) => records,
+            Some(Err(reason)) => return Step::End(End::Damaged(self.damage(reason, end_byte))),
+            None => unreachable!("a chunk is handed on once ready"),
+        };
+        for next in chunk_records(&records) {
+            let parsed = next.and_then(|(opcode, body)| {
+                check_record_lengths(opcode, body)?;
+                mcap::parse_record(opcode, body).map_err(|e| {
+                    format!("record with opcode {opcode:#04x} in a chunk does not parse: {e}")
+                })
+            });
+            let step = match parsed {
+                Ok(record) => self.one(record, end_byte),
+                Err(reason) => Step::End(End::Damaged(self.damage(reason, end_byte))),
+            };
+            if let Step::End(end) = step {
+                return Step::End(end);
             }
         }
+        Step::Go
     }
 
     fn one(&mut self, record: Record<'_>, at_byte: u64) -> Step {
@@ -278,9 +334,11 @@ impl<V: FnMut(Record<'_>) -> std::result::Result<Flow, String>> Visits<V> {
             Record::Message { header, .. } => Some(header.log_time),
             _ => None,
         };
+        // Counted before the visit: a file whose header the visitor refuses is damaged,
+        // not "no MCAP file".
+        self.records += 1;
         match (self.visit)(record) {
             Ok(flow) => {
-                self.records += 1;
                 if let Some(t) = log_time {
                     self.messages += 1;
                     self.last_log_time_ns = Some(t);
@@ -310,7 +368,7 @@ impl<V: FnMut(Record<'_>) -> std::result::Result<Flow, String>> Visits<V> {
 fn queue_record(
     opcode: u8,
     data: &[u8],
-    pool: &ChunkPool,
+    pool: &ChunkPool<'_>,
     limit: usize,
     read_bytes: u64,
 ) -> std::result::Result<Queued, String> {
@@ -319,10 +377,15 @@ fn queue_record(
         .map_err(|e| format!("record with opcode {opcode:#04x} does not parse: {e}"))?;
     Ok(match record {
         Record::Chunk { header, data } => Queued::Chunk {
+            bytes: header.uncompressed_size.min(limit as u64) + data.len() as u64,
             records: pool.submit(&header, &data, limit),
+            ready: None,
             end_byte: read_bytes,
         },
-        other => Queued::Record(other.into_owned()),
+        other => Queued::Record {
+            record: other.into_owned(),
+            at_byte: read_bytes,
+        },
     })
 }
 
