@@ -90,3 +90,22 @@ pub fn sensor_samples(records: &[Record], index: usize) -> Vec<Sample> {
         })
         .collect()
 }
+
+/// `bridgetwin simulate --duration-s DURATION` of the default scenario by the binary, into
+/// `dir/run.mcap`; returns the file's path.
+pub fn simulate_default_file(dir: &Path, duration_s: f64) -> std::path::PathBuf {
+    let out = dir.join("run.mcap");
+    let status = std::process::Command::new(env!("CARGO_BIN_EXE_bridgetwin"))
+        .args([
+            "simulate",
+            "--duration-s",
+            &duration_s.to_string(),
+            "--quiet",
+            "--out",
+        ])
+        .arg(&out)
+        .status()
+        .unwrap();
+    assert!(status.success(), "simulate --duration-s {duration_s}");
+    out
+}

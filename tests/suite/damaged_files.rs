@@ -21,14 +21,7 @@ use bridgetwin::input::{read_run, ReadOptions};
 
 /// A short default run (two layouts would only repeat the same records).
 fn original(dir: &Path) -> Vec<u8> {
-    let out = dir.join("run.mcap");
-    let status = std::process::Command::new(env!("CARGO_BIN_EXE_bridgetwin"))
-        .args(["simulate", "--duration-s", "1.5", "--quiet", "--out"])
-        .arg(&out)
-        .status()
-        .unwrap();
-    assert!(status.success());
-    std::fs::read(&out).unwrap()
+    std::fs::read(crate::common::simulate_default_file(dir, 1.5)).unwrap()
 }
 
 /// How one variant was damaged.

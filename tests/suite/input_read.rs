@@ -13,14 +13,7 @@ use mcap::records::Record;
 
 /// A 60 s default run: 22 chunks.
 fn sixty_seconds(dir: &Path) -> PathBuf {
-    let path = dir.join("run.mcap");
-    let status = std::process::Command::new(env!("CARGO_BIN_EXE_bridgetwin"))
-        .args(["simulate", "--duration-s", "60", "--quiet", "--out"])
-        .arg(&path)
-        .status()
-        .unwrap();
-    assert!(status.success());
-    path
+    crate::common::simulate_default_file(dir, 60.0)
 }
 
 type Messages = Vec<(String, u64, Vec<u8>)>;
