@@ -98,8 +98,20 @@ fn vehicles_outside_the_run_and_other_oddities_are_warnings() {
     );
     let w = warnings_of(|s| s.bridge.damping_ratio = 0.5);
     assert!(w[0].starts_with("bridge.damping_ratio = 0.5"), "{w:#?}");
+    // A big finite-element model builds in milliseconds (banded modes): no warning; a big
+    // lumped one is still dense.
     let w = warnings_of(|s| s.bridge.model = ModelSpec::FiniteElement { elements: 1000 });
-    assert!(w[0].starts_with("bridge.model.elements = 1000"), "{w:#?}");
+    assert!(w.is_empty(), "{w:#?}");
+    let w = warnings_of(|s| {
+        s.bridge.model = ModelSpec::LumpedMass {
+            nodes: 1500,
+            stiffness: Default::default(),
+        }
+    });
+    assert!(
+        w[0].starts_with("bridge.model.nodes = 1500: building a lumped-mass model is dense"),
+        "{w:#?}"
+    );
 }
 
 #[test]

@@ -58,13 +58,14 @@ fn layer_rules() -> BTreeMap<&'static str, Vec<&'static str>> {
 
 /// Inside `physics`: each sub-layer and the sub-layers it may use.
 const PHYSICS: &[(&str, &[&str])] = &[
-    ("bridge", &[]),
+    ("linalg", &[]),
+    ("bridge", &["linalg"]),
     ("road", &[]),
     ("vehicle", &[]),
-    ("solver", &["bridge", "road", "vehicle"]),
+    ("solver", &["linalg", "bridge", "road", "vehicle"]),
     ("environment", &["bridge"]),
     // The ambient calibration is checked by integrating the bridge (a unit test).
-    ("excitation", &["bridge", "solver"]),
+    ("excitation", &["linalg", "bridge", "solver"]),
     ("traffic", &["vehicle"]),
 ];
 

@@ -10,6 +10,7 @@ mod ambient;
 mod analytic_references;
 mod bad_input;
 mod bench_cmd;
+mod big_models;
 mod common;
 mod console;
 mod damaged_files;

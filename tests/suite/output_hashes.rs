@@ -19,6 +19,11 @@
 //! - every example: its first line is now the `#:schema ../docs/scenario.schema.json`
 //!   directive for TOML editors, and a run stores its source TOML as an attachment, so
 //!   the attachment (and only it) gained that line; the default run is unchanged.
+//! - the examples with ambient excitation or model rebuilds (ambient_monitoring,
+//!   damage_onset, day_of_traffic, hour_of_traffic): the ambient calibration projects the
+//!   damping matrix on the modes with the band product of the finite-element model, which
+//!   is now stored as a band, instead of a dense product: the same sum in another order,
+//!   so the damping ratios, and the ambient loads scaled by them, move at round-off.
 
 use std::path::Path;
 use std::process::Command;
@@ -36,32 +41,32 @@ const PINNED: &[(&str, f64, &str)] = &[
     (
         "ambient_monitoring",
         20.0,
-        "056f25dd076d49b768f30e78a3b3935b12e6cd66266f889fafe073d96b4cd91c",
+        "8e830bba1ede8fc3ff1de501c917911a625d58a99d5fc8b8c533514da947d2ad",
     ),
     (
         "ambient_monitoring",
         120.0,
-        "9e4cb13b3f63fedcb8295a2ed6e423aa66f5db39d01b41ae60c5b6a6779c0586",
+        "aba1b1588387c81108f7a227edd9208aaf8eea4efc6ac201fbbe4fc41c396171",
     ),
     (
         "damage_onset",
         20.0,
-        "3c8c64a73597a638fa790662005a3d03dc02022386aeb3bd15e4a258670374e6",
+        "7a4e77da865ddd50ee31de6e4de52907f9825e68ba87a2a4ef02946670f0b5bd",
     ),
     (
         "day_of_traffic",
         20.0,
-        "a02d9d97085aebfdf2a90c5b98c507051e7622e7eed26ae98c34a61121be1a00",
+        "cd731f3ebf991d3705f5fce3dc693352cf374b6d106b15d83f9534ee73335272",
     ),
     (
         "hour_of_traffic",
         20.0,
-        "9c90c41ec17eaaf5965f5b27609c937899262386578fd737cbb061af69bc1dfa",
+        "9e922db05bc170aa959169b5699511f0012add70e4c03337012d1c7c6126e223",
     ),
     (
         "hour_of_traffic",
         60.0,
-        "d384d87eb055c281bbb651e8409cb77a4b78f546164a626296eb7218655ca980",
+        "8e260c828b6c1c5cc9771c22506ab2cec3f098dbeec299b67ea195c178e0a287",
     ),
     (
         "moving_force",

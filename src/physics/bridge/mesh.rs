@@ -10,6 +10,7 @@ use super::hermite::{
     element_consistent_mass, element_stiffness, shape, shape_dx, shape_dxx, ShapeValues,
 };
 use super::sparse::SparseVec;
+use crate::physics::linalg::SymBand;
 
 /// One beam element between nodes `i` and `i + 1`.
 #[derive(Debug, Clone)]
@@ -89,34 +90,49 @@ impl HermiteMesh {
         [a[0], a[1], b[0], b[1]]
     }
 
+    /// Assembles element matrices into the band of the free DOFs (each node's DOFs are
+    /// numbered next to each other, so an element spans at most four consecutive
+    /// equations: half-bandwidth 3), trimmed to the band its nonzeros need.
     fn assemble(
         &self,
         element_matrix: impl Fn(&Element) -> super::hermite::ElementMatrix,
-    ) -> DMatrix<f64> {
-        let mut global = DMatrix::zeros(self.n_dof, self.n_dof);
+    ) -> SymBand {
+        let mut global = SymBand::zeros(self.n_dof, 3);
         for (e, element) in self.elements.iter().enumerate() {
             let local = element_matrix(element);
             let dofs = self.element_dofs(e);
             for (r, gr) in dofs.iter().enumerate() {
                 let Some(gr) = gr else { continue };
                 for (c, gc) in dofs.iter().enumerate() {
-                    if let Some(gc) = gc {
-                        global[(*gr, *gc)] += local[(r, c)];
+                    match gc {
+                        // The lower triangle only: add() stands for both entries.
+                        Some(gc) if gc <= gr => global.add(*gr, *gc, local[(r, c)]),
+                        _ => {}
                     }
                 }
             }
         }
-        global
+        global.trimmed()
     }
 
-    /// Global stiffness over the free DOFs.
-    pub fn stiffness(&self) -> DMatrix<f64> {
+    /// Global stiffness over the free DOFs, banded.
+    pub fn stiffness_band(&self) -> SymBand {
         self.assemble(|e| element_stiffness(e.ei_n_m2, e.length_m))
     }
 
-    /// Global consistent mass over the free DOFs.
-    pub fn consistent_mass(&self) -> DMatrix<f64> {
+    /// Global consistent mass over the free DOFs, banded.
+    pub fn consistent_mass_band(&self) -> SymBand {
         self.assemble(|e| element_consistent_mass(e.mass_per_length_kg_m, e.length_m))
+    }
+
+    /// Global stiffness over the free DOFs, dense (for static condensation).
+    pub fn stiffness(&self) -> DMatrix<f64> {
+        self.stiffness_band().to_dense()
+    }
+
+    /// Global consistent mass over the free DOFs, dense.
+    pub fn consistent_mass(&self) -> DMatrix<f64> {
+        self.consistent_mass_band().to_dense()
     }
 
     /// The element containing `x_m` (clamped to the span) and the local coordinate.

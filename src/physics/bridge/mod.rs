@@ -16,8 +16,8 @@ pub use lumped::{
     unit_load_deflection_m_per_n,
 };
 pub use mesh::{HermiteMesh, PointQuantity};
-pub use model::{BridgeModel, LumpedStiffness, ModelSpec};
-pub use modes::{generalized_modes, Modes, Rayleigh};
+pub use model::{BridgeModel, LumpedStiffness, ModelSpec, REPORTED_MODES};
+pub use modes::{generalized_modes, Modes, Rayleigh, Wanted, DENSE_EIGEN_MAX_DOF};
 pub use sparse::SparseVec;
 
 #[cfg(test)]

@@ -9,13 +9,27 @@ use serde::{Deserialize, Serialize};
 use super::beam::BeamProperties;
 use super::lumped::{condensation_mesh, condense, stiffness_by_flexibility};
 use super::mesh::{HermiteMesh, PointQuantity};
-use super::modes::{generalized_modes, Rayleigh};
+use super::modes::{EigenRoute, Modes, Rayleigh, Wanted};
 use super::sparse::SparseVec;
 use crate::error::{Error, Result};
+use crate::physics::linalg::{SymBand, SymMatrix};
 
-/// Most masses, elements or modes a bridge model may have: beyond it the dense solves of
-/// the lumped and modal models take minutes per run.
+/// Modes every model computes when it is built: the Rayleigh fit needs two, the run's
+/// metadata and `/truth/bridge` report ten.
+pub const REPORTED_MODES: usize = 10;
+
+/// Most masses or modes a bridge model may have: the lumped model's stiffness is dense
+/// (O(n^2) memory, O(n^3) to build) and a modal model's shapes grow as modes x mesh.
 pub const MAX_MODEL_SIZE: usize = 5000;
+
+/// Most elements of a finite-element mesh (of a finite-element or modal model): the band
+/// keeps its memory and its step cost O(n).
+pub const MAX_ELEMENTS: usize = 100_000;
+
+/// Memory a model may need to be built and run (bytes, 4 GiB): a model whose
+/// [`ModelSpec::memory_estimate_bytes`] exceeds it is refused before anything is built,
+/// so that a sweep of one job per core stays within a 24 GiB machine with room to spare.
+pub const MAX_MODEL_MEMORY_BYTES: u64 = 4 << 30;
 
 /// Which discretization to build.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
@@ -33,8 +47,8 @@ pub enum ModelSpec {
     },
     /// Hermite cubic elements with consistent mass.
     FiniteElement {
-        /// Number of equal elements, 1 to 5000.
-        #[schemars(range(min = 1, max = MAX_MODEL_SIZE))]
+        /// Number of equal elements, 1 to 100000.
+        #[schemars(range(min = 1, max = MAX_ELEMENTS))]
         elements: usize,
     },
     /// The first `modes` modes of a fine finite-element model.
@@ -45,11 +59,19 @@ pub enum ModelSpec {
         /// Elements of the underlying FE model, at least 2 x modes (default 4 x modes, at
         /// least 40).
         #[serde(default)]
-        #[schemars(range(min = 2))]
+        #[schemars(range(min = 2, max = MAX_ELEMENTS))]
         elements: Option<usize>,
     },
 }
 crate::base::tagged::kind_tagged!(ModelSpec);
+
+/// `4.0 GiB`, `12.3 MiB`.
+fn gib(bytes: u64) -> String {
+    match bytes >= 1 << 30 {
+        true => format!("{:.1} GiB", bytes as f64 / (1u64 << 30) as f64),
+        false => format!("{:.1} MiB", bytes as f64 / (1u64 << 20) as f64),
+    }
+}
 
 /// Route to the lumped-mass stiffness.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
@@ -65,32 +87,79 @@ pub enum LumpedStiffness {
 }
 
 impl ModelSpec {
-    /// Validates counts; `path` is the scenario path of the spec.
+    /// Validates counts and the memory the model needs; `path` is the scenario path of
+    /// the spec.
     pub fn validate(&self, path: &str) -> Result<()> {
-        let (field, value, min) = match self {
-            ModelSpec::LumpedMass { nodes, .. } => ("nodes", *nodes, 1),
-            ModelSpec::FiniteElement { elements } => ("elements", *elements, 1),
+        let (field, value, max) = match self {
+            ModelSpec::LumpedMass { nodes, .. } => ("nodes", *nodes, MAX_MODEL_SIZE),
+            ModelSpec::FiniteElement { elements } => ("elements", *elements, MAX_ELEMENTS),
             ModelSpec::Modal { modes, elements } => {
                 if let Some(e) = elements {
-                    if *e < 2 * modes {
+                    if *e < 2 * modes || *e > MAX_ELEMENTS {
                         return Err(Error::invalid(
                             format!("{path}.elements"),
                             e,
-                            format!("must be at least 2 x modes = {}", 2 * modes),
+                            format!(
+                                "must be at least 2 x modes = {} and at most {MAX_ELEMENTS}",
+                                2 * modes
+                            ),
                         ));
                     }
                 }
-                ("modes", *modes, 1)
+                ("modes", *modes, MAX_MODEL_SIZE)
             }
         };
-        if value < min || value > MAX_MODEL_SIZE {
+        if value < 1 || value > max {
             return Err(Error::invalid(
                 format!("{path}.{field}"),
                 value,
-                format!("must be between 1 and {MAX_MODEL_SIZE}"),
+                format!("must be between 1 and {max}"),
+            ));
+        }
+        let bytes = self.memory_estimate_bytes();
+        if bytes > MAX_MODEL_MEMORY_BYTES {
+            return Err(Error::invalid(
+                format!("{path}.{field}"),
+                value,
+                format!(
+                    "needs about {} to build and run (estimate), above the limit of {}: \
+                     use a smaller model",
+                    gib(bytes),
+                    gib(MAX_MODEL_MEMORY_BYTES)
+                ),
             ));
         }
         Ok(())
+    }
+
+    /// Peak memory the model takes to build and to set up its solver (bytes), counted
+    /// from the matrices each route holds at once (docs/physics.md section 3; measured
+    /// peaks in the README's build table lie within a factor of two of it):
+    /// - finite elements: about 80 band-sized vectors of the mesh's DOFs (K, M, C, K_eff,
+    ///   their product and factor forms, the eigen-solution's copies), plus the columns
+    ///   of K_eff^-1 the coupled step keeps for meshes of at most 1024 DOFs;
+    /// - modal: the finite-element mesh's share plus the shapes, twice (the eigenvectors
+    ///   and the model's copy);
+    /// - lumped mass: about 14 dense n x n matrices (flexibility, its factor and inverse,
+    ///   the condensation's blocks and transform, C, K_eff and its factor).
+    pub fn memory_estimate_bytes(&self) -> u64 {
+        const F64: u64 = 8;
+        let fe = |elements: usize| {
+            let dofs = 2 * elements as u64;
+            let inverse_columns = if dofs <= 1024 { dofs * dofs } else { 0 };
+            (80 * dofs + inverse_columns) * F64
+        };
+        match self {
+            ModelSpec::FiniteElement { elements } => fe(*elements),
+            ModelSpec::Modal { modes, elements } => {
+                let elements = elements.unwrap_or((4 * modes).max(40));
+                fe(elements) + 2 * (2 * elements as u64) * *modes as u64 * F64
+            }
+            ModelSpec::LumpedMass { nodes, .. } => {
+                let n = *nodes as u64;
+                14 * n * n * F64 + fe(*nodes + 1)
+            }
+        }
     }
 
     /// Short label for tables ("lumped_mass n=100").
@@ -112,23 +181,28 @@ enum Reduction {
     Dense(DMatrix<f64>),
 }
 
-/// A discretized bridge, ready for time integration.
+/// A discretized bridge, ready for time integration. Its matrices are kept in the storage
+/// their structure deserves (finite elements: band, O(n) memory; lumped mass: dense
+/// stiffness and diagonal mass; modal: diagonal).
 #[derive(Debug, Clone)]
 pub struct BridgeModel {
     pub beam: BeamProperties,
     pub spec: ModelSpec,
-    pub mass: DMatrix<f64>,
-    pub stiffness: DMatrix<f64>,
-    pub damping: DMatrix<f64>,
+    pub mass: SymMatrix,
+    pub stiffness: SymMatrix,
+    pub damping: SymMatrix,
     pub rayleigh: Rayleigh,
     /// The damping ratio Rayleigh damping is fitted to on modes 1 and 2.
     pub damping_ratio: f64,
-    /// Natural circular frequencies of this model, ascending (rad/s).
+    /// The lowest natural circular frequencies of this model, ascending (rad/s):
+    /// [`REPORTED_MODES`] of them, or every mode of a model with fewer DOFs (and every
+    /// kept mode of a modal model). [`BridgeModel::modes`] computes more when needed.
     pub omega_rad_s: Vec<f64>,
     /// True when the mass matrix is diagonal (lumped, modal).
     pub diagonal_mass: bool,
     mesh: HermiteMesh,
     reduction: Reduction,
+    eigen_route: EigenRoute,
 }
 
 impl BridgeModel {
@@ -143,21 +217,51 @@ impl BridgeModel {
                 "must be in [0, 1)",
             ));
         }
-        let (mesh, mass, stiffness, reduction, diagonal_mass) = match spec {
+        let built = match spec {
             ModelSpec::LumpedMass { nodes, stiffness } => lumped(beam, *nodes, *stiffness)?,
             ModelSpec::FiniteElement { elements } => {
                 let mesh = HermiteMesh::simply_supported(beam, *elements);
-                let (m, k) = (mesh.consistent_mass(), mesh.stiffness());
-                (mesh, m, k, Reduction::Identity, false)
+                let (m, k) = (mesh.consistent_mass_band(), mesh.stiffness_band());
+                Built {
+                    mass: SymMatrix::Band(m.clone()),
+                    stiffness: SymMatrix::Band(k.clone()),
+                    reduction: Reduction::Identity,
+                    diagonal_mass: false,
+                    eigen_route: EigenRoute::Band {
+                        stiffness: k,
+                        mass: m,
+                        model_dofs: None,
+                    },
+                    mesh,
+                }
             }
             ModelSpec::Modal { modes, elements } => modal(beam, *modes, *elements)?,
         };
-        let modes = generalized_modes(&stiffness, &mass)?;
-        let omega: Vec<f64> = modes.omega_rad_s.iter().copied().collect();
+        let Built {
+            mesh,
+            mass,
+            stiffness,
+            reduction,
+            diagonal_mass,
+            eigen_route,
+        } = built;
+        let reported = eigen_route.lowest(
+            &stiffness,
+            &mass,
+            Wanted::Lowest(REPORTED_MODES.min(mass.n())),
+        )?;
+        let omega: Vec<f64> = match &eigen_route {
+            // A modal model's frequencies are its diagonal: keep them all.
+            EigenRoute::Diagonal => stiffness.diagonal().iter().map(|w2| w2.sqrt()).collect(),
+            _ => reported.omega_rad_s.iter().copied().collect(),
+        };
         // A single-DOF model has one mode: fit on it alone (a0 and a1 split the ratio).
         let w2 = omega.get(1).copied().unwrap_or(omega[0]);
         let rayleigh = Rayleigh::fit(damping_ratio, omega[0], w2);
-        let damping = &mass * rayleigh.a0_per_s + &stiffness * rayleigh.a1_s;
+        let damping = SymMatrix::linear_combination(&[
+            (rayleigh.a0_per_s, &mass),
+            (rayleigh.a1_s, &stiffness),
+        ]);
         Ok(BridgeModel {
             beam: beam.clone(),
             spec: spec.clone(),
@@ -170,12 +274,21 @@ impl BridgeModel {
             diagonal_mass,
             mesh,
             reduction,
+            eigen_route,
         })
+    }
+
+    /// The lowest modes of the model, mass-normalized over the model DOFs: from the band
+    /// of its finite-element mesh (or, for a lumped model, of its condensation mesh) by
+    /// Sturm bisection and inverse iteration, densely only where that is cheaper (small
+    /// models); see [`super::modes`].
+    pub fn modes(&self, wanted: Wanted) -> Result<Modes> {
+        self.eigen_route.lowest(&self.stiffness, &self.mass, wanted)
     }
 
     /// Number of DOFs of the model.
     pub fn n_dof(&self) -> usize {
-        self.mass.nrows()
+        self.mass.n()
     }
 
     /// Natural frequency of mode `n` (1-based), Hz.
@@ -282,7 +395,15 @@ impl BridgeModel {
     }
 }
 
-type Built = (HermiteMesh, DMatrix<f64>, DMatrix<f64>, Reduction, bool);
+/// What the three discretizations build.
+struct Built {
+    mesh: HermiteMesh,
+    mass: SymMatrix,
+    stiffness: SymMatrix,
+    reduction: Reduction,
+    diagonal_mass: bool,
+    eigen_route: EigenRoute,
+}
 
 fn lumped(beam: &BeamProperties, nodes: usize, route: LumpedStiffness) -> Result<Built> {
     let mesh = condensation_mesh(beam, nodes);
@@ -298,30 +419,55 @@ fn lumped(beam: &BeamProperties, nodes: usize, route: LumpedStiffness) -> Result
         condensation.stiffness
     };
     let node_mass_kg = beam.mass_per_length_kg_m * beam.span_m / (nodes + 1) as f64;
-    let mass = DMatrix::from_diagonal_element(nodes, nodes, node_mass_kg);
-    Ok((
+    // The modes come from the condensation mesh with the masses on its translations:
+    // its rotations are massless, so its finite eigenpairs are those of the condensed
+    // stiffness (the same K as the flexibility route up to round-off), while its band
+    // keeps the eigen-solution O(n).
+    let (w_dofs, _) = mesh.split_dofs();
+    let mut mesh_mass = SymBand::zeros(mesh.n_dof, 0);
+    for &dof in &w_dofs {
+        mesh_mass.add(dof, dof, node_mass_kg);
+    }
+    Ok(Built {
+        eigen_route: EigenRoute::Band {
+            stiffness: mesh.stiffness_band(),
+            mass: mesh_mass,
+            model_dofs: Some(w_dofs),
+        },
         mesh,
-        mass,
-        stiffness,
-        Reduction::Dense(condensation.transform),
-        true,
-    ))
+        mass: SymMatrix::Diagonal(DVector::from_element(nodes, node_mass_kg)),
+        stiffness: SymMatrix::Dense(stiffness),
+        reduction: Reduction::Dense(condensation.transform),
+        diagonal_mass: true,
+    })
 }
 
 fn modal(beam: &BeamProperties, modes: usize, elements: Option<usize>) -> Result<Built> {
     let elements = elements.unwrap_or((4 * modes).max(40));
     let mesh = HermiteMesh::simply_supported(beam, elements);
-    let (m_fe, k_fe) = (mesh.consistent_mass(), mesh.stiffness());
-    let fe_modes = generalized_modes(&k_fe, &m_fe)?;
-    let kept = modes.min(fe_modes.omega_rad_s.len());
-    let shapes = fe_modes.shapes.columns(0, kept).into_owned();
-    let omega2 =
-        DVector::from_iterator(kept, fe_modes.omega_rad_s.iter().take(kept).map(|w| w * w));
-    Ok((
+    let fe = EigenRoute::Band {
+        stiffness: mesh.stiffness_band(),
+        mass: mesh.consistent_mass_band(),
+        model_dofs: None,
+    };
+    let (k_fe, m_fe) = match &fe {
+        EigenRoute::Band {
+            stiffness, mass, ..
+        } => (
+            SymMatrix::Band(stiffness.clone()),
+            SymMatrix::Band(mass.clone()),
+        ),
+        _ => unreachable!("built as a band route above"),
+    };
+    let fe_modes = fe.lowest(&k_fe, &m_fe, Wanted::Lowest(modes.min(k_fe.n())))?;
+    let kept = fe_modes.omega_rad_s.len();
+    let omega2 = fe_modes.omega_rad_s.map(|w| w * w);
+    Ok(Built {
         mesh,
-        DMatrix::identity(kept, kept),
-        DMatrix::from_diagonal(&omega2),
-        Reduction::Dense(shapes),
-        true,
-    ))
+        mass: SymMatrix::Diagonal(DVector::from_element(kept, 1.0)),
+        stiffness: SymMatrix::Diagonal(omega2),
+        reduction: Reduction::Dense(fe_modes.shapes),
+        diagonal_mass: true,
+        eigen_route: EigenRoute::Diagonal,
+    })
 }

@@ -1,14 +1,163 @@
-//! Natural frequencies and mode shapes from the library eigen-solver, and Rayleigh damping.
+//! Natural frequencies and mode shapes, and Rayleigh damping.
+//!
+//! A run needs a few modes (the Rayleigh fit, the reported frequencies, the ambient
+//! calibration) or a few hundred (a modal model), never all of a fine mesh. The lowest
+//! modes come from the model's band by Sturm bisection and inverse iteration
+//! ([`crate::physics::linalg::lowest_eigenpairs`]: O(n b^2) per eigenvalue, O(n b) memory
+//! beside the shapes). The dense eigen-solution of the whole pencil (O(n^3) time, O(n^2)
+//! memory) is kept where it is cheaper, for models of at most [`DENSE_EIGEN_MAX_DOF`]
+//! DOFs, and as the reference the banded route is tested against.
 
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
 
 use crate::error::{Error, Result};
+use crate::physics::linalg::{count_below, lowest_eigenpairs, EigenError, SymBand, SymMatrix};
+
+/// Largest model solved by the dense eigen-solution. Below it the dense solve of every
+/// mode costs less than bisecting the wanted few (measured with `bridgetwin bench
+/// --eigen`, docs/physics.md section 3); it also keeps the modes of the small models the
+/// examples use, and so their output, exactly as they were.
+pub const DENSE_EIGEN_MAX_DOF: usize = 200;
+
+/// Which modes to compute.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Wanted {
+    /// The lowest `n` modes.
+    Lowest(usize),
+    /// Every mode below this circular frequency (rad/s), and at least one.
+    Below(f64),
+}
+
+/// Where a model's modes come from.
+#[derive(Debug, Clone)]
+pub enum EigenRoute {
+    /// The pencil of a Hermite mesh: the model's own band (finite elements), or the
+    /// condensation mesh of a lumped model with its masses on the translations
+    /// (`model_dofs`: the mesh DOFs that are the model's DOFs, in order).
+    Band {
+        stiffness: SymBand,
+        mass: SymBand,
+        model_dofs: Option<Vec<usize>>,
+    },
+    /// Diagonal K and M (a modal model): the modes are the unit vectors.
+    Diagonal,
+}
+
+impl EigenRoute {
+    /// The wanted lowest modes of the model whose matrices are `stiffness` and `mass`.
+    pub fn lowest(&self, stiffness: &SymMatrix, mass: &SymMatrix, wanted: Wanted) -> Result<Modes> {
+        let n = mass.n();
+        match self {
+            _ if n <= DENSE_EIGEN_MAX_DOF => {
+                let all = generalized_modes(&stiffness.to_dense(), &mass.to_dense())?;
+                let count = match wanted {
+                    Wanted::Lowest(count) => check_count(count, n)?,
+                    Wanted::Below(omega) => count_up_to(&all.omega_rad_s, omega),
+                };
+                Ok(all.truncated(count))
+            }
+            EigenRoute::Diagonal => {
+                let omega = stiffness
+                    .diagonal()
+                    .zip_map(&mass.diagonal(), |k, m| (k / m).sqrt());
+                let mut order: Vec<usize> = (0..n).collect();
+                order.sort_by(|&i, &j| omega[i].total_cmp(&omega[j]));
+                let count = match wanted {
+                    Wanted::Lowest(count) => check_count(count, n)?,
+                    Wanted::Below(cut) => count_up_to(
+                        &DVector::from_iterator(n, order.iter().map(|&i| omega[i])),
+                        cut,
+                    ),
+                };
+                let mut shapes = DMatrix::zeros(n, count);
+                for (c, &i) in order.iter().take(count).enumerate() {
+                    shapes[(i, c)] = 1.0 / mass.get(i, i).sqrt();
+                }
+                Ok(Modes {
+                    omega_rad_s: DVector::from_iterator(
+                        count,
+                        order.iter().take(count).map(|&i| omega[i]),
+                    ),
+                    shapes,
+                })
+            }
+            EigenRoute::Band {
+                stiffness: k,
+                mass: m,
+                model_dofs,
+            } => {
+                let count = match wanted {
+                    Wanted::Lowest(count) => check_count(count, n)?,
+                    Wanted::Below(omega) => count_below(k, m, omega * omega).max(1),
+                };
+                let (values, vectors) = lowest_eigenpairs(k, m, count).map_err(eigen_error)?;
+                let shapes = match model_dofs {
+                    Some(dofs) => vectors.select_rows(dofs),
+                    None => vectors,
+                };
+                Ok(Modes {
+                    omega_rad_s: DVector::from_iterator(
+                        count,
+                        values.iter().map(|l| l.max(0.0).sqrt()),
+                    ),
+                    shapes,
+                })
+            }
+        }
+    }
+}
+
+/// A mode count must lie in 1..=n.
+fn check_count(count: usize, n: usize) -> Result<usize> {
+    match count <= n {
+        true => Ok(count),
+        false => Err(Error::invalid(
+            "modes",
+            count,
+            format!("must not exceed the model's {n} DOFs"),
+        )),
+    }
+}
+
+/// How many of the ascending `omega` lie at or below `cut`, at least one.
+fn count_up_to(omega: &DVector<f64>, cut: f64) -> usize {
+    omega
+        .iter()
+        .take_while(|&&w| w <= cut)
+        .count()
+        .max(1)
+        .min(omega.len())
+}
+
+fn eigen_error(e: EigenError) -> Error {
+    match e {
+        EigenError::StiffnessNotPositiveDefinite => Error::Factorization {
+            what: "bridge stiffness".into(),
+            reason: "not positive definite (the structure is a mechanism)".into(),
+        },
+        EigenError::TooFewModes { wanted, available } => Error::invalid(
+            "modes",
+            wanted,
+            format!("must not exceed the model's {available} DOFs with mass"),
+        ),
+    }
+}
 
 /// Mass-normalized modes of `K phi = w^2 M phi`, sorted by frequency.
 pub struct Modes {
     pub omega_rad_s: DVector<f64>,
     /// Columns are mode shapes with `phi^T M phi = 1`.
     pub shapes: DMatrix<f64>,
+}
+
+impl Modes {
+    /// The lowest `count` modes.
+    pub fn truncated(self, count: usize) -> Modes {
+        Modes {
+            omega_rad_s: self.omega_rad_s.rows(0, count).into_owned(),
+            shapes: self.shapes.columns(0, count).into_owned(),
+        }
+    }
 }
 
 /// Solves the generalized symmetric eigenproblem by Cholesky reduction

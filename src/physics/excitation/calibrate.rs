@@ -27,7 +27,7 @@ use nalgebra::{Complex, DMatrix, DVector};
 
 use super::bandpass::BandPass;
 use crate::error::{num, Error, Result};
-use crate::physics::bridge::{generalized_modes, BridgeModel, PointQuantity, SparseVec};
+use crate::physics::bridge::{BridgeModel, PointQuantity, SparseVec, Wanted};
 
 /// Modes kept: every mode below this multiple of the band's high edge. Above the band a
 /// mode answers quasi-statically, `|H_n| ~ (f / f_n)^2 <= 1 / 100` at the edge, and the
@@ -101,20 +101,14 @@ struct ModalBasis {
 /// the model's damping matrix projected on them (`phi^T C phi = 2 zeta w`; exact for the
 /// Rayleigh damping the models use, which the modes diagonalise).
 fn modal_basis(model: &BridgeModel, high_hz: f64) -> Result<ModalBasis> {
-    let modes = generalized_modes(&model.stiffness, &model.mass)?;
     let cover_rad_s = 2.0 * PI * MODE_COVER_FACTOR * high_hz;
-    let count = modes
-        .omega_rad_s
-        .iter()
-        .take_while(|&&w| w <= cover_rad_s)
-        .count()
-        .max(1);
-    let shapes = modes.shapes.columns(0, count).into_owned();
-    let omega_rad_s: Vec<f64> = modes.omega_rad_s.iter().take(count).copied().collect();
+    let modes = model.modes(Wanted::Below(cover_rad_s))?;
+    let count = modes.omega_rad_s.len();
+    let shapes = modes.shapes;
+    let omega_rad_s: Vec<f64> = modes.omega_rad_s.iter().copied().collect();
     let mut zeta = Vec::with_capacity(count);
     for (n, &w) in omega_rad_s.iter().enumerate() {
-        let phi = shapes.column(n);
-        let c_n = phi.dot(&(&model.damping * phi));
+        let c_n = model.damping.quadratic_form(&shapes.column(n).into_owned());
         let z = c_n / (2.0 * w);
         if !(z.is_finite() && z > 0.0 && w > 0.0) {
             return Err(Error::invalid(

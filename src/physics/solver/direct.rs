@@ -56,6 +56,9 @@ pub struct DirectSolver<'a> {
     h: SparseVec,
     h_slope: SparseVec,
     lu: SmallLu,
+    /// The bridge's M, C and K as dense matrices: the paper's method assembles the whole
+    /// coupled system densely every step.
+    bridge_dense: (DMatrix<f64>, DMatrix<f64>, DMatrix<f64>),
 }
 
 impl<'a> DirectSolver<'a> {
@@ -89,6 +92,11 @@ impl<'a> DirectSolver<'a> {
             h: SparseVec::with_capacity(n),
             h_slope: SparseVec::with_capacity(n),
             lu: SmallLu::with_capacity(n + 8),
+            bridge_dense: (
+                model.mass.to_dense(),
+                model.damping.to_dense(),
+                model.stiffness.to_dense(),
+            ),
         })
     }
 
@@ -165,13 +173,10 @@ impl<'a> DirectSolver<'a> {
         self.damping.fill(0.0);
         self.stiffness.fill(0.0);
         let model = self.model;
-        self.mass.view_mut((0, 0), (nb, nb)).copy_from(&model.mass);
-        self.damping
-            .view_mut((0, 0), (nb, nb))
-            .copy_from(&model.damping);
-        self.stiffness
-            .view_mut((0, 0), (nb, nb))
-            .copy_from(&model.stiffness);
+        let (m, c, k) = &self.bridge_dense;
+        self.mass.view_mut((0, 0), (nb, nb)).copy_from(m);
+        self.damping.view_mut((0, 0), (nb, nb)).copy_from(c);
+        self.stiffness.view_mut((0, 0), (nb, nb)).copy_from(k);
         self.load.fill(0.0);
         self.load.rows_mut(0, nb).copy_from(&self.external_load);
         let s = &self.bridge_state;

@@ -10,8 +10,8 @@
 use nalgebra::{DMatrix, DVector};
 use nalgebra_sparse::{factorization::CscCholesky, CooMatrix, CscMatrix};
 
-use super::band::{half_bandwidth, BandCholesky, BandMatrix};
 use crate::error::{Error, Result};
+use crate::physics::linalg::{half_bandwidth, BandCholesky, BandMatrix, SymBand, SymMatrix};
 
 /// Widest half-bandwidth stored as a band: every beam model here is far below it (3 for
 /// Hermite elements); wider sparse matrices keep the CSC form.
@@ -41,16 +41,19 @@ pub enum Operator {
 
 impl Operator {
     /// Picks the storage: diagonal when the matrix is diagonal, else as asked.
-    pub fn new(matrix: &DMatrix<f64>, storage: Storage) -> Self {
-        if is_diagonal(matrix) {
+    pub fn new(matrix: &SymMatrix, storage: Storage) -> Self {
+        if matrix.is_diagonal() {
             return Operator::Diagonal(matrix.diagonal());
         }
-        match storage {
-            Storage::Dense => Operator::Dense(matrix.clone()),
-            Storage::Sparse if half_bandwidth(matrix) <= MAX_BAND => {
-                Operator::Band(BandMatrix::from_symmetric(matrix))
+        match (storage, matrix) {
+            (Storage::Dense, _) => Operator::Dense(matrix.to_dense()),
+            (Storage::Sparse, SymMatrix::Band(b)) if b.half_bandwidth() <= MAX_BAND => {
+                Operator::Band(BandMatrix::from_band(b))
             }
-            Storage::Sparse => Operator::Sparse(Csc::from(&to_csc(matrix))),
+            (Storage::Sparse, SymMatrix::Dense(m)) if half_bandwidth(m) <= MAX_BAND => {
+                Operator::Band(BandMatrix::from_symmetric(m))
+            }
+            (Storage::Sparse, _) => Operator::Sparse(Csc::from(&to_csc(&matrix.to_dense()))),
         }
     }
 
@@ -77,28 +80,34 @@ pub enum Factor {
 
 impl Factor {
     /// Factorizes `matrix` once, in the storage its structure deserves.
-    pub fn new(matrix: &DMatrix<f64>, storage: Storage, what: &str) -> Result<Self> {
+    pub fn new(matrix: &SymMatrix, storage: Storage, what: &str) -> Result<Self> {
         let failed = |reason: &str| Error::Factorization {
             what: what.to_string(),
             reason: reason.to_string(),
         };
-        if is_diagonal(matrix) {
+        if matrix.is_diagonal() {
             let d = matrix.diagonal();
             if d.iter().any(|&v| !(v > 0.0 && v.is_finite())) {
                 return Err(failed("non-positive diagonal"));
             }
             return Ok(Factor::Diagonal(d.map(|v| 1.0 / v)));
         }
-        match storage {
-            Storage::Dense => matrix
-                .clone()
+        let band = |b: &SymBand| {
+            BandCholesky::factor(b)
+                .map(Factor::Band)
+                .map_err(|row| failed(&format!("not positive definite (pivot of row {row})")))
+        };
+        match (storage, matrix) {
+            (Storage::Dense, _) => matrix
+                .to_dense()
                 .cholesky()
                 .map(Factor::Dense)
                 .ok_or_else(|| failed("not positive definite")),
-            Storage::Sparse if half_bandwidth(matrix) <= MAX_BAND => BandCholesky::factor(matrix)
-                .map(Factor::Band)
-                .map_err(|row| failed(&format!("not positive definite (pivot of row {row})"))),
-            Storage::Sparse => CscCholesky::factor(&to_csc(matrix))
+            (Storage::Sparse, SymMatrix::Band(b)) if b.half_bandwidth() <= MAX_BAND => band(b),
+            (Storage::Sparse, SymMatrix::Dense(m)) if half_bandwidth(m) <= MAX_BAND => {
+                band(&SymBand::from_dense(m))
+            }
+            (Storage::Sparse, _) => CscCholesky::factor(&to_csc(&matrix.to_dense()))
                 .map_err(|e| failed(&format!("{e:?}")))
                 .map(|c| Csc::from(c.l()))
                 .and_then(|l| match l.diagonal_leads_every_column() {
@@ -198,13 +207,6 @@ impl Csc {
     }
 }
 
-fn is_diagonal(m: &DMatrix<f64>) -> bool {
-    m.is_square()
-        && m.column_iter()
-            .enumerate()
-            .all(|(j, col)| col.iter().enumerate().all(|(i, &v)| i == j || v == 0.0))
-}
-
 /// Dense to CSC, dropping exact zeros.
 pub fn to_csc(m: &DMatrix<f64>) -> CscMatrix<f64> {
     let mut coo = CooMatrix::new(m.nrows(), m.ncols());
@@ -238,16 +240,16 @@ mod tests {
         let b = DVector::from_fn(12, |i, _| (i as f64).sin());
         let exact = a.clone().lu().solve(&b).unwrap();
         for storage in [Storage::Dense, Storage::Sparse] {
-            let f = Factor::new(&a, storage, "test").unwrap();
+            let f = Factor::new(&SymMatrix::from(a.clone()), storage, "test").unwrap();
             let mut x = b.clone();
             f.solve_in_place(&mut x);
             assert!((&x - &exact).norm() < 1e-12);
             let mut y = DVector::zeros(12);
-            Operator::new(&a, storage).mul_add(2.0, &x, &mut y);
+            Operator::new(&SymMatrix::from(a.clone()), storage).mul_add(2.0, &x, &mut y);
             assert!((&y - &b * 2.0).norm() < 1e-12);
         }
         let d = DMatrix::from_diagonal(&DVector::from_element(3, 4.0));
-        let f = Factor::new(&d, Storage::Dense, "diag").unwrap();
+        let f = Factor::new(&SymMatrix::from(d.clone()), Storage::Dense, "diag").unwrap();
         let mut x = DVector::from_element(3, 8.0);
         f.solve_in_place(&mut x);
         assert_eq!(x, DVector::from_element(3, 2.0));
@@ -266,12 +268,12 @@ mod tests {
         let b = DVector::from_fn(n, |i, _| (0.3 * i as f64).cos());
         let exact = a.clone().lu().solve(&b).unwrap();
         let mut x = b.clone();
-        Factor::new(&a, Storage::Sparse, "band")
+        Factor::new(&SymMatrix::from(a.clone()), Storage::Sparse, "band")
             .unwrap()
             .solve_in_place(&mut x);
         assert!((&x - &exact).norm() < 1e-12 * exact.norm());
         let mut y = DVector::from_element(n, 1.0);
-        Operator::new(&a, Storage::Sparse).mul_add(-0.5, &b, &mut y);
+        Operator::new(&SymMatrix::from(a.clone()), Storage::Sparse).mul_add(-0.5, &b, &mut y);
         let expected = DVector::from_element(n, 1.0) - &a * &b * 0.5;
         assert!((&y - expected).norm() < 1e-12 * y.norm());
     }
@@ -283,14 +285,14 @@ mod tests {
         let mut a = spd(n);
         a[(0, n - 1)] = 0.5;
         a[(n - 1, 0)] = 0.5;
-        let f = Factor::new(&a, Storage::Sparse, "wide").unwrap();
+        let f = Factor::new(&SymMatrix::from(a.clone()), Storage::Sparse, "wide").unwrap();
         assert!(matches!(f, Factor::Sparse(_)));
         let b = DVector::from_fn(n, |i, _| (i as f64).sin());
         let mut x = b.clone();
         f.solve_in_place(&mut x);
         let exact = a.clone().lu().solve(&b).unwrap();
         assert!((&x - &exact).norm() < 1e-12 * exact.norm());
-        let op = Operator::new(&a, Storage::Sparse);
+        let op = Operator::new(&SymMatrix::from(a.clone()), Storage::Sparse);
         assert!(matches!(op, Operator::Sparse(_)));
         let mut y = DVector::zeros(n);
         op.mul_add(1.0, &x, &mut y);
@@ -302,7 +304,7 @@ mod tests {
         let mut a = spd(4);
         a[(2, 2)] = -5.0;
         for storage in [Storage::Dense, Storage::Sparse] {
-            assert!(Factor::new(&a, storage, "K_eff").is_err());
+            assert!(Factor::new(&SymMatrix::from(a.clone()), storage, "K_eff").is_err());
         }
     }
 }

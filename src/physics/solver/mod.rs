@@ -1,7 +1,6 @@
 //! Time integration: Newmark-beta, the linear algebra behind it, the coupled
 //! vehicle-bridge step, and stepping it with the divergence check.
 
-mod band;
 mod coupled;
 mod direct;
 mod linear;

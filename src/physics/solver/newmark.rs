@@ -9,6 +9,7 @@ use serde::{Deserialize, Serialize};
 
 use super::linear::{Factor, Operator, Storage};
 use crate::error::{Error, Result};
+use crate::physics::linalg::SymMatrix;
 
 /// Newmark parameters; the default is the average-acceleration rule (gamma 1/2, beta 1/4):
 /// unconditionally stable, no numerical damping.
@@ -151,13 +152,17 @@ impl Newmark {
     /// Prepares the integrator: builds `K_eff` and factorizes it (unless the mode is the
     /// per-step baseline).
     pub fn new(
-        mass: &DMatrix<f64>,
-        damping: &DMatrix<f64>,
-        stiffness: &DMatrix<f64>,
+        mass: &SymMatrix,
+        damping: &SymMatrix,
+        stiffness: &SymMatrix,
         coefficients: NewmarkCoefficients,
         mode: SolveMode,
     ) -> Result<Self> {
-        let k_eff = stiffness + mass * coefficients.a0 + damping * coefficients.a1;
+        let k_eff = SymMatrix::linear_combination(&[
+            (1.0, stiffness),
+            (coefficients.a0, mass),
+            (coefficients.a1, damping),
+        ]);
         let storage = match mode {
             SolveMode::Prefactored(s) => s,
             SolveMode::FactorEachStep => Storage::Dense,
@@ -166,7 +171,7 @@ impl Newmark {
             SolveMode::Prefactored(s) => Some(Factor::new(&k_eff, s, "effective stiffness")?),
             SolveMode::FactorEachStep => None,
         };
-        let n = mass.nrows();
+        let n = mass.n();
         Ok(Newmark {
             coefficients,
             state: State::zeros(n),
@@ -174,7 +179,7 @@ impl Newmark {
             damping: Operator::new(damping, storage),
             factor,
             k_eff_dense: if factor_each_step(mode) {
-                k_eff
+                k_eff.to_dense()
             } else {
                 DMatrix::zeros(0, 0)
             },
@@ -262,20 +267,15 @@ impl Newmark {
     /// `M a = f0 - C v - K u`.
     pub fn initialize_acceleration(
         &mut self,
-        mass: &DMatrix<f64>,
-        stiffness: &DMatrix<f64>,
+        mass: &SymMatrix,
+        stiffness: &SymMatrix,
         f0: &DVector<f64>,
     ) -> Result<()> {
-        let mut r = f0 - stiffness * &self.state.u;
+        let mut r = f0.clone();
+        stiffness.mul_add(-1.0, &self.state.u, &mut r);
         self.damping.mul_add(-1.0, &self.state.v, &mut r);
-        let chol = mass
-            .clone()
-            .cholesky()
-            .ok_or_else(|| Error::Factorization {
-                what: "mass matrix".into(),
-                reason: "not positive definite".into(),
-            })?;
-        self.state.a = chol.solve(&r);
+        Factor::new(mass, Storage::Sparse, "mass matrix")?.solve_in_place(&mut r);
+        self.state.a = r;
         Ok(())
     }
 }
@@ -290,9 +290,8 @@ mod tests {
     use std::f64::consts::PI;
 
     fn oscillator(omega: f64, zeta: f64, dt: f64) -> Newmark {
-        let m = DMatrix::from_element(1, 1, 1.0);
-        let k = DMatrix::from_element(1, 1, omega * omega);
-        let c = DMatrix::from_element(1, 1, 2.0 * zeta * omega);
+        let one = |v: f64| SymMatrix::Dense(DMatrix::from_element(1, 1, v));
+        let (m, k, c) = (one(1.0), one(omega * omega), one(2.0 * zeta * omega));
         let coef = NewmarkCoefficients::new(dt, NewmarkParams::default()).unwrap();
         Newmark::new(&m, &c, &k, coef, SolveMode::Prefactored(Storage::Dense)).unwrap()
     }
@@ -391,7 +390,8 @@ mod tests {
     fn prefactored_and_per_step_solves_agree() {
         let m = DMatrix::from_row_slice(2, 2, &[2.0, 0.1, 0.1, 1.0]);
         let k = DMatrix::from_row_slice(2, 2, &[300.0, -100.0, -100.0, 100.0]);
-        let c = &k * 0.01;
+        let c = SymMatrix::from(&k * 0.01);
+        let (m, k) = (SymMatrix::from(m), SymMatrix::from(k));
         let coef = NewmarkCoefficients::new(0.01, NewmarkParams::default()).unwrap();
         let mut a =
             Newmark::new(&m, &c, &k, coef, SolveMode::Prefactored(Storage::Sparse)).unwrap();

@@ -12,6 +12,7 @@ use crate::error::Result;
 use crate::physics::bridge::{
     BeamProperties, BridgeModel, LumpedStiffness, ModelSpec, PointQuantity, SparseVec,
 };
+use crate::physics::linalg::SymMatrix;
 use crate::physics::solver::{Newmark, NewmarkCoefficients, NewmarkParams, SolveMode, Storage};
 use crate::studies::analytic::{ModalDamping, MovingForceSolution, SimplySupportedBeam};
 
@@ -113,7 +114,7 @@ pub fn static_deflection() -> Result<Vec<CheckRow>> {
         let load = op.to_dense(model.n_dof()) * -p_n;
         let u = model
             .stiffness
-            .clone()
+            .to_dense()
             .lu()
             .solve(&load)
             .unwrap_or_else(|| DVector::zeros(0));
@@ -135,7 +136,7 @@ pub fn static_deflection() -> Result<Vec<CheckRow>> {
 pub fn newmark_oscillator() -> Result<Vec<CheckRow>> {
     let mut rows = Vec::new();
     let omega = 2.0 * PI;
-    let one = |v: f64| DMatrix::from_element(1, 1, v);
+    let one = |v: f64| SymMatrix::Dense(DMatrix::from_element(1, 1, v));
     for dt_over_t in [0.02, 0.1] {
         let coefficients = NewmarkCoefficients::new(dt_over_t, NewmarkParams::default())?;
         let mut nm = Newmark::new(

@@ -33,6 +33,14 @@ pub const SCHEMA_ACCEPTS: &[(&str, &str)] = &[
     ),
     ("ISO 8608 band inverted", "n1 < n2 relates two keys"),
     (
+        "modal model with more modes than its mesh has DOFs to spare",
+        "the bound is 2 x bridge.model.modes",
+    ),
+    (
+        "model whose memory estimate is above the limit",
+        "the memory estimate multiplies modes and elements",
+    ),
+    (
         "time step too coarse for the sensor rates",
         "sensor rates are bounded by 1/dt",
     ),

@@ -1,14 +1,16 @@
 //! Symmetric band matrices: the mass, damping and effective stiffness of a finite-element
 //! beam couple each node only to its neighbours (half-bandwidth 3 with two DOFs per node).
 //!
-//! Stored by rows of the lower band, `b + 1` values per row (`row[i][k]` is entry
-//! `(i, i - k)`, zero-padded before column 0), so the per-step kernels are fixed-length
-//! loops over contiguous memory with no index arrays: the matrix-vector product, and the
-//! two triangular solves with the Cholesky factor computed once in band form
-//! (`L L^T`, Golub and Van Loan, Matrix Computations, 4th ed., algorithm 4.3.5: the factor
-//! of a band matrix keeps its band, so the cost is O(n b^2) once and O(n b) per solve).
-//! The transposed solve reads a second copy of the factor stored by columns, so that it
-//! too runs forward through memory.
+//! [`SymBand`] is the storage a model is built in: the lower band by rows, `b + 1` values
+//! per row (`row[i][k]` is entry `(i, i - k)`, zero-padded before column 0), O(n b) memory
+//! where a dense matrix would take O(n^2). [`BandMatrix`] and [`BandCholesky`] are the
+//! forms the per-step kernels run on: fixed-length loops over contiguous memory with no
+//! index arrays, for the matrix-vector product and the two triangular solves with the
+//! Cholesky factor computed once in band form (`L L^T`, Golub and Van Loan, Matrix
+//! Computations, 4th ed., algorithm 4.3.5: the factor of a band matrix keeps its band,
+//! so the cost is O(n b^2) once and O(n b) per solve). The transposed solve reads a
+//! second copy of the factor stored by columns, so that it too runs forward through
+//! memory.
 
 use nalgebra::DMatrix;
 
@@ -25,17 +27,138 @@ pub fn half_bandwidth(m: &DMatrix<f64>) -> usize {
     b
 }
 
-/// Lower band rows of `m` (half-bandwidth `b`): `(n, b + 1)` values, entry `(i, i - k)` at
-/// `i * (b + 1) + k`.
-fn lower_rows(m: &DMatrix<f64>, b: usize) -> Vec<f64> {
-    let n = m.nrows();
-    let mut rows = vec![0.0; n * (b + 1)];
-    for i in 0..n {
-        for k in 0..=b.min(i) {
-            rows[i * (b + 1) + k] = m[(i, i - k)];
+/// A symmetric band matrix stored as its lower band by rows: entry `(i, i - k)` at
+/// `i * (b + 1) + k` for `k = 0..=b` (slots before column 0 stay zero).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SymBand {
+    n: usize,
+    b: usize,
+    rows: Vec<f64>,
+}
+
+impl SymBand {
+    /// The zero matrix of order `n` with room for half-bandwidth `b`.
+    pub fn zeros(n: usize, b: usize) -> Self {
+        SymBand {
+            n,
+            b,
+            rows: vec![0.0; n * (b + 1)],
         }
     }
-    rows
+
+    /// The band of symmetric `m` (its lower triangle is read), as narrow as its nonzeros.
+    pub fn from_dense(m: &DMatrix<f64>) -> Self {
+        let (n, b) = (m.nrows(), half_bandwidth(m));
+        let mut band = SymBand::zeros(n, b);
+        for i in 0..n {
+            for k in 0..=b.min(i) {
+                band.rows[i * (b + 1) + k] = m[(i, i - k)];
+            }
+        }
+        band
+    }
+
+    /// Order of the matrix.
+    pub fn n(&self) -> usize {
+        self.n
+    }
+
+    /// Half-bandwidth the storage has room for.
+    pub fn half_bandwidth(&self) -> usize {
+        self.b
+    }
+
+    /// Entry `(i, j)` (zero outside the band).
+    pub fn get(&self, i: usize, j: usize) -> f64 {
+        let (r, c) = if j <= i { (i, j) } else { (j, i) };
+        match r - c <= self.b {
+            true => self.rows[r * (self.b + 1) + r - c],
+            false => 0.0,
+        }
+    }
+
+    /// Adds `value` to entries `(i, j)` and `(j, i)`; `|i - j|` must lie within the band.
+    pub fn add(&mut self, i: usize, j: usize, value: f64) {
+        let (r, c) = if j <= i { (i, j) } else { (j, i) };
+        assert!(
+            r - c <= self.b,
+            "entry ({i}, {j}) outside half-bandwidth {}",
+            self.b
+        );
+        self.rows[r * (self.b + 1) + r - c] += value;
+    }
+
+    /// The same matrix in the narrowest band that holds its nonzeros.
+    pub fn trimmed(&self) -> SymBand {
+        let w = self.b + 1;
+        let b = (0..self.n)
+            .flat_map(|i| (1..=self.b.min(i)).map(move |k| (i, k)))
+            .filter(|&(i, k)| self.rows[i * w + k] != 0.0)
+            .map(|(_, k)| k)
+            .max()
+            .unwrap_or(0);
+        let mut out = SymBand::zeros(self.n, b);
+        for i in 0..self.n {
+            for k in 0..=b.min(i) {
+                out.rows[i * (b + 1) + k] = self.rows[i * w + k];
+            }
+        }
+        out
+    }
+
+    /// The lower band, row by row (`b + 1` values per row).
+    pub fn lower_rows(&self) -> &[f64] {
+        &self.rows
+    }
+
+    /// `sum_k c_k A_k` over matrices of one order, entry by entry in the order given (so
+    /// that `K + a0 M + a1 C` rounds as the same sum of dense matrices does); the result
+    /// has the widest band of the terms.
+    pub fn linear_combination(terms: &[(f64, &SymBand)]) -> SymBand {
+        let n = terms.first().map_or(0, |(_, m)| m.n);
+        let b = terms.iter().map(|(_, m)| m.b).max().unwrap_or(0);
+        let mut sum = SymBand::zeros(n, b);
+        for (t, &(c, m)) in terms.iter().enumerate() {
+            assert_eq!(m.n, n, "band matrices of different orders");
+            for i in 0..n {
+                for k in 0..=m.b.min(i) {
+                    let slot = &mut sum.rows[i * (b + 1) + k];
+                    let term = c * m.rows[i * (m.b + 1) + k];
+                    *slot = if t == 0 { term } else { *slot + term };
+                }
+            }
+        }
+        sum
+    }
+
+    /// The dense matrix (tests, the paper's per-step baseline, small models).
+    pub fn to_dense(&self) -> DMatrix<f64> {
+        DMatrix::from_fn(self.n, self.n, |i, j| self.get(i, j))
+    }
+
+    /// `y += alpha A x` (set-up and diagnostics; the time loop uses [`BandMatrix`]).
+    pub fn mul_add(&self, alpha: f64, x: &[f64], y: &mut [f64]) {
+        let w = self.b + 1;
+        for i in 0..self.n {
+            let row = &self.rows[i * w..(i + 1) * w];
+            y[i] += alpha * row[0] * x[i];
+            for k in 1..=self.b.min(i) {
+                y[i] += alpha * row[k] * x[i - k];
+                y[i - k] += alpha * row[k] * x[i];
+            }
+        }
+    }
+
+    /// Whether every entry off the diagonal is zero.
+    pub fn is_diagonal(&self) -> bool {
+        let w = self.b + 1;
+        (0..self.n).all(|i| self.rows[i * w + 1..(i + 1) * w].iter().all(|&v| v == 0.0))
+    }
+
+    /// The diagonal.
+    pub fn diagonal(&self) -> Vec<f64> {
+        (0..self.n).map(|i| self.rows[i * (self.b + 1)]).collect()
+    }
 }
 
 /// A symmetric band matrix for `y += alpha A x`, stored as full band rows (`2 b + 1`
@@ -49,18 +172,22 @@ pub struct BandMatrix {
 }
 
 impl BandMatrix {
-    /// The band of symmetric `m` (the lower triangle is read, the upper taken equal).
-    pub fn from_symmetric(m: &DMatrix<f64>) -> Self {
-        let (n, b) = (m.nrows(), half_bandwidth(m));
+    /// The full rows of `band`.
+    pub fn from_band(band: &SymBand) -> Self {
+        let (n, b) = (band.n, band.b);
         let w = 2 * b + 1;
         let mut rows = vec![0.0; n * w];
         for i in 0..n {
             for j in i.saturating_sub(b)..=(i + b).min(n - 1) {
-                let (r, c) = if j <= i { (i, j) } else { (j, i) };
-                rows[i * w + j + b - i] = m[(r, c)];
+                rows[i * w + j + b - i] = band.get(i, j);
             }
         }
         BandMatrix { n, b, rows }
+    }
+
+    /// The band of symmetric `m` (the lower triangle is read, the upper taken equal).
+    pub fn from_symmetric(m: &DMatrix<f64>) -> Self {
+        Self::from_band(&SymBand::from_dense(m))
     }
 
     /// `y += alpha A x`.
@@ -139,11 +266,10 @@ pub struct BandCholesky {
 
 impl BandCholesky {
     /// Factorizes `m`; `Err(row)` names the first row whose pivot is not positive.
-    pub fn factor(m: &DMatrix<f64>) -> Result<Self, usize> {
-        let n = m.nrows();
-        let b = half_bandwidth(m);
+    pub fn factor(m: &SymBand) -> Result<Self, usize> {
+        let (n, b) = (m.n, m.b);
         let w = b + 1;
-        let mut l = lower_rows(m, b);
+        let mut l = m.rows.clone();
         for i in 0..n {
             for k in (0..=b.min(i)).rev() {
                 let j = i - k;
@@ -250,7 +376,7 @@ mod tests {
             let rhs = DVector::from_fn(n, |i, _| (0.3 * i as f64).cos());
             let exact = a.clone().lu().solve(&rhs).unwrap();
             let mut x = rhs.clone();
-            BandCholesky::factor(&a)
+            BandCholesky::factor(&SymBand::from_dense(&a))
                 .unwrap()
                 .solve_in_place(x.as_mut_slice());
             // Residual of a well-conditioned system: a few ulps times the size.
@@ -263,9 +389,32 @@ mod tests {
     }
 
     #[test]
+    fn band_storage_round_trips_and_combines_as_dense_matrices_do() {
+        let (a, c) = (banded_spd(9, 2), banded_spd(9, 3));
+        let (ba, bc) = (SymBand::from_dense(&a), SymBand::from_dense(&c));
+        assert_eq!((ba.half_bandwidth(), bc.half_bandwidth()), (2, 3));
+        assert_eq!(ba.to_dense(), a);
+        // The same entry-by-entry sums, in the same order: equal to the last bit.
+        let sum = SymBand::linear_combination(&[(1.0, &ba), (0.3, &bc), (-2.0, &ba)]);
+        assert_eq!(sum.to_dense(), (&a + &c * 0.3) + &a * -2.0);
+        let x: Vec<f64> = (0..9).map(|i| (0.7 * i as f64).sin()).collect();
+        let mut y = vec![1.0; 9];
+        bc.mul_add(2.0, &x, &mut y);
+        let expected = DVector::from_element(9, 1.0) + &c * DVector::from_column_slice(&x) * 2.0;
+        assert!((DVector::from_column_slice(&y) - expected).norm() < 1e-13);
+        let mut d = SymBand::zeros(3, 1);
+        d.add(1, 0, 2.0);
+        assert_eq!((d.get(0, 1), d.get(1, 0), d.get(2, 0)), (2.0, 2.0, 0.0));
+        assert!(!d.is_diagonal() && SymBand::zeros(3, 2).is_diagonal());
+    }
+
+    #[test]
     fn an_indefinite_matrix_names_its_row() {
         let mut a = banded_spd(10, 2);
         a[(6, 6)] = -50.0;
-        assert_eq!(BandCholesky::factor(&a).err(), Some(6));
+        assert_eq!(
+            BandCholesky::factor(&SymBand::from_dense(&a)).err(),
+            Some(6)
+        );
     }
 }
