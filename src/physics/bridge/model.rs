@@ -221,17 +221,12 @@ impl BridgeModel {
             ModelSpec::LumpedMass { nodes, stiffness } => lumped(beam, *nodes, *stiffness)?,
             ModelSpec::FiniteElement { elements } => {
                 let mesh = HermiteMesh::simply_supported(beam, *elements);
-                let (m, k) = (mesh.consistent_mass_band(), mesh.stiffness_band());
                 Built {
-                    mass: SymMatrix::Band(m.clone()),
-                    stiffness: SymMatrix::Band(k.clone()),
+                    mass: SymMatrix::Band(mesh.consistent_mass_band()),
+                    stiffness: SymMatrix::Band(mesh.stiffness_band()),
                     reduction: Reduction::Identity,
                     diagonal_mass: false,
-                    eigen_route: EigenRoute::Band {
-                        stiffness: k,
-                        mass: m,
-                        model_dofs: None,
-                    },
+                    eigen_route: EigenRoute::OwnBand,
                     mesh,
                 }
             }
@@ -429,10 +424,10 @@ fn lumped(beam: &BeamProperties, nodes: usize, route: LumpedStiffness) -> Result
         mesh_mass.add(dof, dof, node_mass_kg);
     }
     Ok(Built {
-        eigen_route: EigenRoute::Band {
+        eigen_route: EigenRoute::CondensationMesh {
             stiffness: mesh.stiffness_band(),
             mass: mesh_mass,
-            model_dofs: Some(w_dofs),
+            model_dofs: w_dofs,
         },
         mesh,
         mass: SymMatrix::Diagonal(DVector::from_element(nodes, node_mass_kg)),
@@ -445,21 +440,12 @@ fn lumped(beam: &BeamProperties, nodes: usize, route: LumpedStiffness) -> Result
 fn modal(beam: &BeamProperties, modes: usize, elements: Option<usize>) -> Result<Built> {
     let elements = elements.unwrap_or((4 * modes).max(40));
     let mesh = HermiteMesh::simply_supported(beam, elements);
-    let fe = EigenRoute::Band {
-        stiffness: mesh.stiffness_band(),
-        mass: mesh.consistent_mass_band(),
-        model_dofs: None,
-    };
-    let (k_fe, m_fe) = match &fe {
-        EigenRoute::Band {
-            stiffness, mass, ..
-        } => (
-            SymMatrix::Band(stiffness.clone()),
-            SymMatrix::Band(mass.clone()),
-        ),
-        _ => unreachable!("built as a band route above"),
-    };
-    let fe_modes = fe.lowest(&k_fe, &m_fe, Wanted::Lowest(modes.min(k_fe.n())))?;
+    let (k_fe, m_fe) = (
+        SymMatrix::Band(mesh.stiffness_band()),
+        SymMatrix::Band(mesh.consistent_mass_band()),
+    );
+    let wanted = Wanted::Lowest(modes.min(k_fe.n()));
+    let fe_modes = EigenRoute::OwnBand.lowest(&k_fe, &m_fe, wanted)?;
     let kept = fe_modes.omega_rad_s.len();
     let omega2 = fe_modes.omega_rad_s.map(|w| w * w);
     Ok(Built {

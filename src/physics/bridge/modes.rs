@@ -13,10 +13,10 @@ use nalgebra::{DMatrix, DVector, SymmetricEigen};
 use crate::error::{Error, Result};
 use crate::physics::linalg::{count_below, lowest_eigenpairs, EigenError, SymBand, SymMatrix};
 
-/// Largest model solved by the dense eigen-solution. Below it the dense solve of every
-/// mode costs less than bisecting the wanted few (measured with `bridgetwin bench
-/// --eigen`, docs/physics.md section 3); it also keeps the modes of the small models the
-/// examples use, and so their output, exactly as they were.
+/// Largest model solved by the dense eigen-solution (every mode at once, a few
+/// milliseconds at this size). The bound keeps the modes of the small models the examples
+/// and the default scenario use, and so their output, exactly as they were; it is not a
+/// measured crossover of the two routes' costs.
 pub const DENSE_EIGEN_MAX_DOF: usize = 200;
 
 /// Which modes to compute.
@@ -31,13 +31,15 @@ pub enum Wanted {
 /// Where a model's modes come from.
 #[derive(Debug, Clone)]
 pub enum EigenRoute {
-    /// The pencil of a Hermite mesh: the model's own band (finite elements), or the
-    /// condensation mesh of a lumped model with its masses on the translations
-    /// (`model_dofs`: the mesh DOFs that are the model's DOFs, in order).
-    Band {
+    /// The model's own band K and M (finite elements).
+    OwnBand,
+    /// The condensation mesh of a lumped model, with the masses on its translations and
+    /// its rotations massless (`model_dofs`: the mesh DOFs that are the model's DOFs, in
+    /// order): its finite eigenpairs are those of the condensed stiffness.
+    CondensationMesh {
         stiffness: SymBand,
         mass: SymBand,
-        model_dofs: Option<Vec<usize>>,
+        model_dofs: Vec<usize>,
     },
     /// Diagonal K and M (a modal model): the modes are the unit vectors.
     Diagonal,
@@ -56,55 +58,67 @@ impl EigenRoute {
                 };
                 Ok(all.truncated(count))
             }
-            EigenRoute::Diagonal => {
-                let omega = stiffness
-                    .diagonal()
-                    .zip_map(&mass.diagonal(), |k, m| (k / m).sqrt());
-                let mut order: Vec<usize> = (0..n).collect();
-                order.sort_by(|&i, &j| omega[i].total_cmp(&omega[j]));
-                let count = match wanted {
-                    Wanted::Lowest(count) => check_count(count, n)?,
-                    Wanted::Below(cut) => count_up_to(
-                        &DVector::from_iterator(n, order.iter().map(|&i| omega[i])),
-                        cut,
-                    ),
-                };
-                let mut shapes = DMatrix::zeros(n, count);
-                for (c, &i) in order.iter().take(count).enumerate() {
-                    shapes[(i, c)] = 1.0 / mass.get(i, i).sqrt();
-                }
-                Ok(Modes {
-                    omega_rad_s: DVector::from_iterator(
-                        count,
-                        order.iter().take(count).map(|&i| omega[i]),
-                    ),
-                    shapes,
-                })
-            }
-            EigenRoute::Band {
+            EigenRoute::Diagonal => Ok(diagonal_modes(stiffness, mass, wanted)?),
+            EigenRoute::OwnBand => match (stiffness, mass) {
+                (SymMatrix::Band(k), SymMatrix::Band(m)) => banded_modes(k, m, None, n, wanted),
+                _ => Err(Error::Factorization {
+                    what: "bridge model".into(),
+                    reason: "the banded eigen-solution needs band matrices (bug)".into(),
+                }),
+            },
+            EigenRoute::CondensationMesh {
                 stiffness: k,
                 mass: m,
                 model_dofs,
-            } => {
-                let count = match wanted {
-                    Wanted::Lowest(count) => check_count(count, n)?,
-                    Wanted::Below(omega) => count_below(k, m, omega * omega).max(1),
-                };
-                let (values, vectors) = lowest_eigenpairs(k, m, count).map_err(eigen_error)?;
-                let shapes = match model_dofs {
-                    Some(dofs) => vectors.select_rows(dofs),
-                    None => vectors,
-                };
-                Ok(Modes {
-                    omega_rad_s: DVector::from_iterator(
-                        count,
-                        values.iter().map(|l| l.max(0.0).sqrt()),
-                    ),
-                    shapes,
-                })
-            }
+            } => banded_modes(k, m, Some(model_dofs), n, wanted),
         }
     }
+}
+
+/// The lowest modes of diagonal K and M: unit vectors, ordered by frequency.
+fn diagonal_modes(stiffness: &SymMatrix, mass: &SymMatrix, wanted: Wanted) -> Result<Modes> {
+    let n = mass.n();
+    let omega = stiffness
+        .diagonal()
+        .zip_map(&mass.diagonal(), |k, m| (k / m).sqrt());
+    let mut order: Vec<usize> = (0..n).collect();
+    order.sort_by(|&i, &j| omega[i].total_cmp(&omega[j]));
+    let sorted = DVector::from_iterator(n, order.iter().map(|&i| omega[i]));
+    let count = match wanted {
+        Wanted::Lowest(count) => check_count(count, n)?,
+        Wanted::Below(cut) => count_up_to(&sorted, cut),
+    };
+    let mut shapes = DMatrix::zeros(n, count);
+    for (c, &i) in order.iter().take(count).enumerate() {
+        shapes[(i, c)] = 1.0 / mass.get(i, i).sqrt();
+    }
+    Ok(Modes {
+        omega_rad_s: sorted.rows(0, count).into_owned(),
+        shapes,
+    })
+}
+
+/// The lowest modes of the band pencil `(k, m)`, restricted to `model_dofs` when given;
+/// `n` is the model's number of DOFs.
+fn banded_modes(
+    k: &SymBand,
+    m: &SymBand,
+    model_dofs: Option<&Vec<usize>>,
+    n: usize,
+    wanted: Wanted,
+) -> Result<Modes> {
+    let count = match wanted {
+        Wanted::Lowest(count) => check_count(count, n)?,
+        Wanted::Below(omega) => count_below(k, m, omega * omega).clamp(1, n),
+    };
+    let (values, vectors) = lowest_eigenpairs(k, m, count).map_err(eigen_error)?;
+    Ok(Modes {
+        omega_rad_s: DVector::from_iterator(count, values.iter().map(|l| l.max(0.0).sqrt())),
+        shapes: match model_dofs {
+            Some(dofs) => vectors.select_rows(dofs),
+            None => vectors,
+        },
+    })
 }
 
 /// A mode count must lie in 1..=n.

@@ -137,6 +137,14 @@ impl SymMatrix {
         }
     }
 
+    /// The modal assurance criterion of two vectors in the inner product of this
+    /// (mass) matrix: `(x^T A y)^2 / ((x^T A x)(y^T A y))`, 1 for parallel shapes and
+    /// insensitive to their signs and scales.
+    pub fn modal_assurance(&self, x: &DVector<f64>, y: &DVector<f64>) -> f64 {
+        let xy = x.dot(&self.mul(y));
+        xy * xy / (self.quadratic_form(x) * self.quadratic_form(y))
+    }
+
     /// Bytes the stored values take.
     pub fn stored_bytes(&self) -> usize {
         let values = match self {
