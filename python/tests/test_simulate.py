@@ -67,6 +67,21 @@ def test_toml_errors_name_the_key():
         bridgetwin.check("[bridge]\nspam_m = 3\n")
 
 
+def test_a_run_larger_than_the_free_space_is_refused_unless_told(scratch, monkeypatch):
+    # A file system stand-in with 1000 bytes free (the variable the library reads for
+    # tests): the run's estimate does not fit, so nothing is written.
+    monkeypatch.setenv("BRIDGETWIN_FREE_SPACE_BYTES", "1000")
+    out = scratch / "big.mcap"
+    with pytest.raises(OSError) as raised:
+        bridgetwin.simulate(out=out, duration_s=1.0)
+    message = str(raised.value)
+    for part in ("estimated size", "1000 B free", str(scratch), "skip_space_check=True"):
+        assert part in message, message
+    assert list(scratch.iterdir()) == []
+    files = bridgetwin.simulate(out=out, duration_s=1.0, skip_space_check=True)
+    assert files == [out] and out.is_file()
+
+
 def test_simulate_out_writes_the_cli_bytes(scratch):
     example = REPO / "examples" / "two_trucks.toml"
     run_cli("simulate", example, "--seed", 7, "--duration-s", 3, "--out", scratch / "cli.mcap", "--quiet")

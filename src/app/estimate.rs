@@ -137,8 +137,8 @@ fn burst(resolved: &Resolved, prepared: &Prepared, steps: u64) -> Result<Burst> 
 }
 
 /// Times bursts of the run's own loop (growing until one lasts [`BURST_TARGET_S`], a
-/// quarter of the run at most, within [`CALIBRATION_BUDGET_S`]) and extrapolates to the
-/// run's `steps` and `messages`.
+/// quarter of the run at most, then once more at that size, the faster kept; all within
+/// [`CALIBRATION_BUDGET_S`]) and extrapolates to the run's `steps` and `messages`.
 pub fn time_run(resolved: &Resolved, prepared: &Prepared, messages: u64) -> Result<Timing> {
     let started = Instant::now();
     let longest = (resolved.steps / 4).max(1);
@@ -157,7 +157,15 @@ pub fn time_run(resolved: &Resolved, prepared: &Prepared, messages: u64) -> Resu
         }
         steps = next;
     };
-    let (burst_steps, b) = measured;
+    let (burst_steps, mut b) = measured;
+    // Once more at the same size when the budget allows, keeping the faster: a moment of
+    // load from another process should not stand for the whole run.
+    if started.elapsed().as_secs_f64() + b.setup_s + b.loop_s <= CALIBRATION_BUDGET_S {
+        let again = burst(resolved, prepared, burst_steps)?;
+        if again.loop_s < b.loop_s {
+            b = again;
+        }
+    }
     let message_s = b.write_s / b.messages.max(1) as f64;
     let step_s = (b.loop_s - b.write_s).max(0.0) / burst_steps as f64;
     let physics_s = step_s * resolved.steps as f64;

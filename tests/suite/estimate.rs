@@ -35,17 +35,17 @@ const MESSAGES_FACTOR: f64 = 1.02;
 const BYTES_FACTOR: f64 = 1.35;
 
 /// (scenario file or `None` for the default, duration override): the short examples at
-/// their full length, the long ones cut to a minute or so (ambient: 90 s, so that its
-/// first truck crosses), as CI cuts the traffic examples, to keep the suite short.
+/// their full length, the long ones cut to 30 s (ambient: 70 s, so that its first truck
+/// reaches the bridge), as CI cuts the traffic examples, to keep the suite short.
 const CASES: &[(Option<&str>, Option<f64>)] = &[
     (None, None),
     (Some("examples/moving_force.toml"), None),
     (Some("examples/paper_case.toml"), None),
     (Some("examples/two_trucks.toml"), None),
-    (Some("examples/ambient_monitoring.toml"), Some(90.0)),
-    (Some("examples/damage_onset.toml"), Some(60.0)),
-    (Some("examples/hour_of_traffic.toml"), Some(60.0)),
-    (Some("examples/day_of_traffic.toml"), Some(60.0)),
+    (Some("examples/ambient_monitoring.toml"), Some(70.0)),
+    (Some("examples/damage_onset.toml"), Some(30.0)),
+    (Some("examples/hour_of_traffic.toml"), Some(30.0)),
+    (Some("examples/day_of_traffic.toml"), Some(30.0)),
 ];
 
 /// (estimated steps, messages, bytes; written steps, messages, bytes) of a run written
