@@ -170,7 +170,10 @@ pub fn time_run(resolved: &Resolved, prepared: &Prepared, messages: u64) -> Resu
     let step_s = (b.loop_s - b.write_s).max(0.0) / burst_steps as f64;
     let physics_s = step_s * resolved.steps as f64;
     let writing_s = message_s * messages as f64;
-    let wall_s = b.setup_s + physics_s.max(writing_s) + OVERLAP * physics_s.min(writing_s);
+    // On a single core the writer thread cannot overlap the loop at all.
+    let single_core = std::thread::available_parallelism().is_ok_and(|n| n.get() < 2);
+    let overlap = if single_core { 1.0 } else { OVERLAP };
+    let wall_s = b.setup_s + physics_s.max(writing_s) + overlap * physics_s.min(writing_s);
     Ok(Timing {
         burst_steps,
         step_s,
