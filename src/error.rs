@@ -31,6 +31,20 @@ pub enum Error {
     /// Output could not be written.
     #[error("writing {path}: {reason}")]
     Output { path: String, reason: String },
+    /// A run whose estimated size exceeds the free space of its output's file system,
+    /// refused before anything is written. The sizes are as printed (`95.3 GiB`).
+    #[error(
+        "refusing to write {out}: the run's estimated size, {estimated}, exceeds the {free} \
+         free on the file system of the output folder {folder} (shorten the run or lower \
+         its rates, free some space, or run it anyway with --skip-space-check; \
+         skip_space_check=True in Python)"
+    )]
+    InsufficientSpace {
+        out: String,
+        folder: String,
+        estimated: String,
+        free: String,
+    },
 }
 
 /// Shorthand used across the library.

@@ -58,9 +58,12 @@ def simulate(
     seed: int | None = None,
     duration_s: float | None = None,
     force: bool = False,
+    skip_space_check: bool = False,
 ) -> list[Path]:
     """Runs a scenario into ``out`` off the GIL; returns the files written. Ctrl-C raises
-    KeyboardInterrupt with ``partial`` (the ``.partial`` file kept)."""
+    KeyboardInterrupt with ``partial`` (the ``.partial`` file kept). A run whose estimated
+    size exceeds the free space of ``out``'s file system raises OSError before anything
+    is written, unless ``skip_space_check``."""
 
 #: One column: (name, kind, data, extra, missing). ``kind`` is one of ``f64``, ``i64``,
 #: ``u32``, ``i32``, ``bool`` (data: the values), ``category`` (data: int32 codes, extra:

@@ -55,6 +55,7 @@ def simulate(
     seed: int | None = None,
     duration_s: float | None = None,
     force: bool = False,
+    skip_space_check: bool = False,
 ) -> Run | list[Path]:
     """Runs a scenario, exactly as ``bridgetwin simulate`` does.
 
@@ -66,6 +67,9 @@ def simulate(
         seed: overrides the scenario's seed (same seed, same bytes).
         duration_s: overrides the scenario's duration (s).
         force: overwrite ``out`` if it exists.
+        skip_space_check: run even when the estimated size exceeds the free space of
+            ``out``'s file system (by default such a run raises OSError before anything
+            is written, as the command line refuses it without ``--skip-space-check``).
 
     Returns the :class:`Run` when ``out`` is None, else the files written. The run does
     not hold the GIL, so threads (``concurrent.futures.ThreadPoolExecutor``) run several
@@ -74,7 +78,13 @@ def simulate(
     attribute), as with the command line; with ``out=None`` the run so far is its ``run``
     attribute instead.
     """
-    kwargs = dict(_source(scenario), seed=seed, duration_s=duration_s, force=force)
+    kwargs = dict(
+        _source(scenario),
+        seed=seed,
+        duration_s=duration_s,
+        force=force,
+        skip_space_check=skip_space_check,
+    )
     if out is not None:
         return [Path(p) for p in _native.simulate(os.fspath(out), **kwargs)]
     with tempfile.TemporaryDirectory(prefix="bridgetwin-") as folder:

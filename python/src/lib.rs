@@ -17,7 +17,8 @@ use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict, PyList};
 
-use bridgetwin::app::run::{run_to_files, FilesOutcome};
+use bridgetwin::app::run::{run_to_files, FilesOptions, FilesOutcome};
+use bridgetwin::app::space::SpaceCheck;
 use bridgetwin::input::{read_run as read_files, Column, ReadOptions, RunData, Values};
 use bridgetwin::scenario::{Scenario, DEFAULT_SCENARIO_TOML};
 use bridgetwin::Error;
@@ -117,10 +118,11 @@ fn check(
 /// Runs a scenario into `out` as `bridgetwin simulate` does (the same bytes for the same
 /// scenario and seed). The time loop runs on its own thread without the GIL; this thread
 /// checks for Ctrl-C every 50 ms and, on it, stops the run (its file is kept as
-/// `.partial`, as the command line keeps it) and raises KeyboardInterrupt. Returns the
-/// files written.
+/// `.partial`, as the command line keeps it) and raises KeyboardInterrupt. A run whose
+/// estimated size exceeds the free space of `out`'s file system is refused (OSError)
+/// before anything is written, unless `skip_space_check`. Returns the files written.
 #[pyfunction]
-#[pyo3(signature = (out, text=None, path=None, source="scenario", seed=None, duration_s=None, force=false))]
+#[pyo3(signature = (out, text=None, path=None, source="scenario", seed=None, duration_s=None, force=false, skip_space_check=false))]
 #[allow(clippy::too_many_arguments)]
 fn simulate(
     py: Python<'_>,
@@ -131,6 +133,7 @@ fn simulate(
     seed: Option<u64>,
     duration_s: Option<f64>,
     force: bool,
+    skip_space_check: bool,
 ) -> PyResult<Vec<PathBuf>> {
     let (mut scenario, original) = load(text, path, source).map_err(|e| scenario_error(py, &e))?;
     if let Some(seed) = seed {
@@ -150,7 +153,14 @@ fn simulate(
                 progress: &mut progress,
                 stop: Some(&stop),
             };
-            run_to_files(&resolved, &out, force, &mut control)
+            let options = FilesOptions {
+                force,
+                space_check: match skip_space_check {
+                    true => SpaceCheck::Skip,
+                    false => SpaceCheck::default(),
+                },
+            };
+            run_to_files(&resolved, &out, options, &mut control, &mut |_| {})
         })
     };
     let mut interrupted = None;
@@ -197,7 +207,9 @@ fn simulate(
         )),
         (Err((e, _)), _) => Err(match e {
             Error::InvalidParameter { .. } => scenario_error(py, &e),
-            Error::File { .. } | Error::Output { .. } => PyOSError::new_err(e.to_string()),
+            Error::File { .. } | Error::Output { .. } | Error::InsufficientSpace { .. } => {
+                PyOSError::new_err(e.to_string())
+            }
             _ => SimulationError::new_err(e.to_string()),
         }),
     }

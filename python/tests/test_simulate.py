@@ -67,6 +67,21 @@ def test_toml_errors_name_the_key():
         bridgetwin.check("[bridge]\nspam_m = 3\n")
 
 
+def test_a_run_larger_than_the_free_space_is_refused_unless_told(scratch, monkeypatch):
+    # A file system stand-in with 1000 bytes free (the variable the library reads for
+    # tests): the run's estimate does not fit, so nothing is written.
+    monkeypatch.setenv("BRIDGETWIN_FREE_SPACE_BYTES", "1000")
+    out = scratch / "big.mcap"
+    with pytest.raises(OSError) as raised:
+        bridgetwin.simulate(out=out, duration_s=1.0)
+    message = str(raised.value)
+    for part in ("estimated size", "1000 B free", str(scratch), "skip_space_check=True"):
+        assert part in message, message
+    assert list(scratch.iterdir()) == []
+    files = bridgetwin.simulate(out=out, duration_s=1.0, skip_space_check=True)
+    assert files == [out] and out.is_file()
+
+
 def test_simulate_out_writes_the_cli_bytes(scratch):
     example = REPO / "examples" / "two_trucks.toml"
     run_cli("simulate", example, "--seed", 7, "--duration-s", 3, "--out", scratch / "cli.mcap", "--quiet")
@@ -150,7 +165,7 @@ def test_ctrl_c_stops_the_run_and_keeps_a_partial(scratch):
         import sys, bridgetwin
         print("started", flush=True)
         try:
-            bridgetwin.simulate(out={str(out)!r}, duration_s=100000.0)
+            bridgetwin.simulate(out={str(out)!r}, duration_s=100000.0, skip_space_check=True)
         except KeyboardInterrupt as e:
             print("interrupted", e.partial, flush=True)
             sys.exit(130)
@@ -182,7 +197,7 @@ def test_ctrl_c_in_memory_hands_back_the_run_so_far():
         import sys, bridgetwin
         print("started", flush=True)
         try:
-            bridgetwin.simulate(duration_s=100000.0)
+            bridgetwin.simulate(duration_s=100000.0, skip_space_check=True)
         except KeyboardInterrupt as e:
             accel = e.run[e.run.sensors("accel")[0]]
             print("interrupted", len(accel) > 0, e.partial, flush=True)

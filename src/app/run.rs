@@ -5,8 +5,10 @@ use std::io::{Seek, Write};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use super::estimate::{estimate_run, RunEstimate};
+use super::space::{check_space, SpaceCheck};
 use crate::error::Result;
-use crate::output::{McapRecorder, McapSink, SinkOptions};
+use crate::output::{check_output, FileShape, McapRecorder, McapSink, SinkOptions};
 use crate::scenario::Resolved;
 use crate::sim::{Control, Prepared, RunSummary};
 
@@ -99,20 +101,40 @@ pub fn sink_options(resolved: &Resolved, force: bool) -> SinkOptions {
     }
 }
 
+/// Options of [`run_to_files`]. `Default`: no `force`, the space check on.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct FilesOptions {
+    /// Replace existing output files.
+    pub force: bool,
+    /// Whether a run whose estimated size exceeds the output's free space is refused.
+    pub space_check: SpaceCheck,
+}
+
 /// Runs a resolved scenario into the file `out` (or its hourly parts) as `simulate` does,
 /// with the writer on a second thread: the same bytes whoever calls it (the command line,
-/// the Python package). On an error nothing half-written stays (whole parts completed
-/// before it do, and `completed_parts` of the error's note lists them).
+/// the Python package). Before anything is written, the run is estimated
+/// ([`estimate_run`]), `on_estimate` gets the estimate, and a run larger than the free
+/// space of `out`'s file system is refused (unless `options.space_check` says not to),
+/// after the checks of the output path itself. On an error nothing half-written stays
+/// (whole parts completed before it do, and `completed_parts` of the error's note lists
+/// them).
 pub fn run_to_files(
     resolved: &Resolved,
     out: &Path,
-    force: bool,
+    options: FilesOptions,
     control: &mut Control,
+    on_estimate: &mut dyn FnMut(&RunEstimate),
 ) -> std::result::Result<FilesOutcome, (crate::Error, Vec<PathBuf>)> {
     // Errors before the loop, and in closing the files, leave no completed part behind.
     let alone = |e: crate::Error| (e, Vec::new());
     let prepared = crate::sim::prepare(resolved).map_err(alone)?;
-    let mut sink = McapSink::create(out, sink_options(resolved, force)).map_err(alone)?;
+    let sink_options = sink_options(resolved, options.force);
+    let shape = FileShape::new(&sink_options, Some(resolved.flush_every_ns));
+    let estimate = estimate_run(resolved, &prepared, &shape).map_err(alone)?;
+    on_estimate(&estimate);
+    check_output(out, &sink_options).map_err(alone)?;
+    check_space(out, estimate.bytes, options.space_check).map_err(alone)?;
+    let mut sink = McapSink::create(out, sink_options).map_err(alone)?;
     match write_run(
         &mut sink,
         resolved,

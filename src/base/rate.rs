@@ -78,6 +78,22 @@ impl ExactRate {
         self.instant_ns(n)
     }
 
+    /// How many instants `instant_ns(k)`, `k = 0, 1, ...`, fall at or before `end_ns`:
+    /// the samples of a stream at this rate over `[0, end_ns]`.
+    pub fn count_until_ns(&self, end_ns: u64) -> u64 {
+        // k / rate <= end: k = floor(end * num / (1e9 den)), then the rounding of the
+        // instants settles the last one (instants round halves up).
+        let mut k = u64::try_from(u128::from(end_ns) * self.num / (NS_PER_S * self.den))
+            .unwrap_or(u64::MAX - 1);
+        while k < u64::MAX - 1 && self.instant_ns(k + 1) <= end_ns {
+            k += 1;
+        }
+        while k > 0 && self.instant_ns(k) > end_ns {
+            k -= 1;
+        }
+        k + 1
+    }
+
     /// Ordering of two rates, exact.
     pub fn cmp_rate(&self, other: &Self) -> std::cmp::Ordering {
         (self.num * other.den).cmp(&(other.num * self.den))
@@ -158,6 +174,25 @@ mod tests {
         let r = ExactRate::from_hz("rate_hz", 51.2).unwrap();
         assert_eq!(r.instant_ns(1), 19_531_250);
         assert_eq!(r.instant_ns(3), 58_593_750);
+    }
+
+    #[test]
+    fn counts_until_an_end_match_the_instants_one_by_one() {
+        for hz in [200.0, 300.0, 51.2, 1000.0 / 3.0, 0.5] {
+            let r = ExactRate::from_hz("rate_hz", hz).unwrap();
+            for end_ns in [
+                0,
+                1,
+                3_333_333,
+                3_333_334,
+                10_000_000,
+                19_531_250,
+                2_000_000_001,
+            ] {
+                let brute = (0..).take_while(|&k| r.instant_ns(k) <= end_ns).count() as u64;
+                assert_eq!(r.count_until_ns(end_ns), brute, "{hz} Hz until {end_ns} ns");
+            }
+        }
     }
 
     #[test]

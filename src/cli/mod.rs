@@ -2,6 +2,7 @@
 //! module that prints.
 
 mod bench_cmd;
+mod estimate_line;
 pub mod from_mcap;
 pub mod inspect_cmd;
 mod layout_cmd;

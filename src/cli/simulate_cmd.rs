@@ -5,7 +5,12 @@ use std::time::Instant;
 
 use anyhow::Result;
 
-use crate::app::run::{run_to_files, FilesOutcome, Written};
+use std::cell::Cell;
+
+use super::estimate_line::{duration_text, estimate_line, time_left_s};
+use crate::app::estimate::RunEstimate;
+use crate::app::run::{run_to_files, FilesOptions, FilesOutcome, Written};
+use crate::app::space::SpaceCheck;
 use crate::scenario::{Scenario, DEFAULT_SCENARIO_TOML};
 
 /// Arguments of `simulate`.
@@ -31,6 +36,10 @@ pub struct SimulateArgs {
     /// Replace an existing output file (or part).
     #[arg(long)]
     pub force: bool,
+    /// Run even when the estimated size exceeds the free space of the output's file
+    /// system (by default such a run is refused before anything is written).
+    #[arg(long)]
+    pub skip_space_check: bool,
     /// Print the time split: setup, physics + sensors, writing.
     #[arg(long)]
     pub timings: bool,
@@ -123,16 +132,29 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
     let stop = super::terminal::stop_on_signals()?;
     let bar = match args.quiet {
         true => None,
-        false => super::terminal::progress_bar(resolved.steps, "{bar:30} {msg} ({eta} left)"),
+        false => super::terminal::progress_bar(resolved.steps, "{bar:30} {msg}"),
     };
-    let loop_start = std::time::Instant::now();
+    // The estimate's wall time and when it was made: the progress bar's time left starts
+    // from it, and --timings compares it with the run.
+    let estimated: Cell<Option<(f64, Instant)>> = Cell::new(None);
+    let mut on_estimate = |e: &RunEstimate| {
+        estimated.set(Some((e.timing.wall_s, Instant::now())));
+        if !args.quiet {
+            let line = estimate_line(e);
+            match &bar {
+                Some(b) => b.suspend(|| eprintln!("{line}")),
+                None => eprintln!("{line}"),
+            }
+        }
+    };
     let mut progress = |p: &crate::sim::RunProgress| {
-        if let Some(b) = &bar {
+        if let (Some(b), Some((wall_s, at))) = (&bar, estimated.get()) {
             b.set_position(p.step);
             b.set_message(progress_line(
                 p,
                 resolved.duration_s(),
-                loop_start.elapsed(),
+                at.elapsed(),
+                wall_s,
             ));
         }
     };
@@ -140,7 +162,20 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
         progress: &mut progress,
         stop: Some(&stop),
     };
-    let outcome = run_to_files(&resolved, &args.out, args.force, &mut control);
+    let options = FilesOptions {
+        force: args.force,
+        space_check: match args.skip_space_check {
+            true => SpaceCheck::Skip,
+            false => SpaceCheck::default(),
+        },
+    };
+    let outcome = run_to_files(
+        &resolved,
+        &args.out,
+        options,
+        &mut control,
+        &mut on_estimate,
+    );
     if let Some(b) = bar {
         b.finish_and_clear();
     }
@@ -189,6 +224,13 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
             }
             if args.timings {
                 print_timings(wall_s, loop_s, write_s, summary.duration_s);
+                if let Some((estimate_s, at)) = estimated.get() {
+                    eprintln!(
+                        "the estimate said {} from its line to the end; the run took {}",
+                        duration_text(estimate_s),
+                        duration_text(at.elapsed().as_secs_f64())
+                    );
+                }
             }
             Ok(())
         }
@@ -346,10 +388,13 @@ pub fn docs() {
     print!("{}", crate::scenario::schema::reference_text());
 }
 
-/// `scenario check FILE`: validates a scenario.
+/// `scenario check FILE`: validates a scenario and prints what a run of it would write
+/// and take (the line `simulate` prints before it starts).
 pub fn check(path: &Path) -> Result<()> {
-    let (scenario, _) = load_scenario(Some(path))?;
-    let resolved = scenario.resolve()?;
+    let (scenario, original_toml) = load_scenario(Some(path))?;
+    let mut resolved = scenario.resolve()?;
+    // The run stores the scenario as written: its bytes count in the estimate.
+    resolved.source_toml = original_toml;
     print_warnings(&resolved, true);
     eprintln!(
         "{}: ok ({} vehicles, {} sensors, {:.2} s, {} steps)",
@@ -359,19 +404,29 @@ pub fn check(path: &Path) -> Result<()> {
         resolved.duration_s(),
         resolved.steps
     );
+    let prepared = crate::sim::prepare(&resolved)?;
+    let options = crate::app::run::sink_options(&resolved, false);
+    let shape = crate::output::FileShape::new(&options, Some(resolved.flush_every_ns));
+    let estimate = crate::app::estimate::estimate_run(&resolved, &prepared, &shape)?;
+    eprintln!("{}", estimate_line(&estimate));
     Ok(())
 }
 
-/// The progress bar's message: simulated time, vehicles, model rebuilds and the rate.
+/// The progress bar's message: simulated time, the rate, the time left (from the
+/// estimate at first, then from the pace so far), vehicles and model rebuilds.
 fn progress_line(
     p: &crate::sim::RunProgress,
     duration_s: f64,
     wall: std::time::Duration,
+    estimate_s: f64,
 ) -> String {
-    let rate = p.time_s / wall.as_secs_f64().max(1e-9);
+    let elapsed_s = wall.as_secs_f64();
+    let rate = p.time_s / elapsed_s.max(1e-9);
+    let left_s = time_left_s(p.step, p.steps, elapsed_s, estimate_s);
     let mut line = format!(
-        "{:.0} of {duration_s:.0} s simulated, {rate:.0}x real time",
-        p.time_s
+        "{:.0} of {duration_s:.0} s simulated, {rate:.0}x real time, about {} left",
+        p.time_s,
+        duration_text(left_s)
     );
     if p.vehicles_on_road > 0 || p.vehicles_passed > 0 {
         line.push_str(&format!(

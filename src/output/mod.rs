@@ -14,6 +14,7 @@
 
 mod blocks;
 mod channels;
+mod estimate;
 pub mod layout;
 mod messages;
 mod parts;
@@ -25,7 +26,10 @@ mod writer;
 
 use std::collections::BTreeMap;
 
-pub use parts::{existing_parts, part_path};
+pub use estimate::{
+    compression_ratio, estimate_output, ChannelEstimate, Content, FileShape, OutputEstimate,
+};
+pub use parts::{check_output, existing_parts, part_path};
 pub use recorder::McapRecorder;
 pub use scene::{LANE_WIDTH_M, SCENE_FRAME};
 pub use schema::{self_contained_descriptor_set, ALL_DESCRIPTORS};

@@ -82,6 +82,46 @@ impl Split {
     }
 }
 
+/// Checks what [`McapSink::create`](super::McapSink::create) checks before it writes anything (a file name; for
+/// a split run, not a directory; every target absent unless `options.force`), without
+/// creating a file: so that a caller can refuse a run for other reasons (too little
+/// space) after the errors a user should see first.
+pub fn check_output(path: &Path, options: &SinkOptions) -> Result<()> {
+    check_targets(path, options).map(drop)
+}
+
+/// [`check_output`], returning the split and the first file's target.
+pub(super) fn check_targets(
+    path: &Path,
+    options: &SinkOptions,
+) -> Result<(Option<Split>, PathBuf)> {
+    let label = path.display().to_string();
+    if path.file_name().is_none() {
+        return Err(Error::Output {
+            path: label,
+            reason: "the output path has no file name".into(),
+        });
+    }
+    let split = Split::from_options(options, &label)?;
+    let target = match split {
+        None => path.to_path_buf(),
+        // `--out` is only the pattern of the parts' names, but a directory is a mistake.
+        Some(_) if path.is_dir() => {
+            return Err(Error::Output {
+                path: label,
+                reason: "is a directory".into(),
+            });
+        }
+        Some(_) => part_path(path, 0),
+    };
+    check_target(&target, options.force)?;
+    // Fail now rather than hours into the run.
+    for part in 1..split.and_then(|s| s.parts_total).unwrap_or(1) {
+        check_target(&part_path(path, part), options.force)?;
+    }
+    Ok((split, target))
+}
+
 /// The files of a sink made by [`McapSink::create`].
 #[derive(Debug)]
 pub(super) struct OutputPaths {

@@ -85,6 +85,11 @@ impl<'a, W: Write + Seek> McapRecorder<'a, W> {
         self
     }
 
+    /// The sink written to (the estimate's probe reads its per-channel totals).
+    pub(super) fn sink(&self) -> &McapSink<W> {
+        self.sink
+    }
+
     fn run(&self) -> Result<&Run> {
         self.run.as_ref().ok_or_else(not_begun)
     }

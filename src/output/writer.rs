@@ -10,9 +10,10 @@ use std::path::{Path, PathBuf};
 use mcap::records::{MessageHeader, Metadata};
 use mcap::{Attachment, WriteOptions, Writer};
 
+use super::estimate::ChannelTotals;
 use super::parts::{
-    check_target, finish_writer, flush_file, new_writer, open_partial, part_path, publish, sync,
-    write_part_start, Closing, OutputPaths, Parts, Replay, Split,
+    check_target, check_targets, finish_writer, flush_file, new_writer, open_partial, part_path,
+    publish, sync, write_part_start, Closing, OutputPaths, Parts, Replay,
 };
 use super::schema::self_contained_descriptor_set;
 use super::topics::validate_topic;
@@ -74,6 +75,8 @@ pub(super) struct Channel {
     /// Sequence number of the last message written (the first message gets 1). It runs on
     /// across the parts of a split run.
     sequence: u32,
+    /// Encoded message bytes written (payloads only), for the estimate's probe.
+    payload_bytes: u64,
 }
 
 /// Streams protobuf messages into an MCAP file (zstd chunks, all indexes and statistics).
@@ -145,30 +148,7 @@ impl McapSink<BufWriter<File>> {
     /// creating nothing, if the target exists and `options.force` is false, or if `path`
     /// is a directory. A stale `.partial` from an earlier run is overwritten.
     pub fn create(path: &Path, options: SinkOptions) -> Result<Self> {
-        let label = path.display().to_string();
-        if path.file_name().is_none() {
-            return Err(Error::Output {
-                path: label,
-                reason: "the output path has no file name".into(),
-            });
-        }
-        let split = Split::from_options(&options, &label)?;
-        let target = match split {
-            None => path.to_path_buf(),
-            // `--out` is only the pattern of the parts' names, but a directory is a mistake.
-            Some(_) if path.is_dir() => {
-                return Err(Error::Output {
-                    path: label,
-                    reason: "is a directory".into(),
-                });
-            }
-            Some(_) => part_path(path, 0),
-        };
-        check_target(&target, options.force)?;
-        // Fail now rather than hours into the run.
-        for part in 1..split.and_then(|s| s.parts_total).unwrap_or(1) {
-            check_target(&part_path(path, part), options.force)?;
-        }
+        let (split, target) = check_targets(path, &options)?;
         let label = target.display().to_string();
         let (out, partial) = open_partial(&target)?;
         let parts = split.map(|split| Parts {
@@ -451,6 +431,7 @@ impl<W: Write + Seek> McapSink<W> {
             package: M::PACKAGE,
             name: M::NAME,
             sequence: 0,
+            payload_bytes: 0,
         });
         Ok(ChannelId(self.channels.len() - 1))
     }
@@ -518,6 +499,7 @@ impl<W: Write + Seek> McapSink<W> {
             })?;
         if let Some(state) = self.channels.get_mut(channel.0) {
             state.sequence = sequence;
+            state.payload_bytes += self.buffer.len() as u64;
         }
         self.last_log_time_ns = log_time_ns;
         Ok(())
@@ -597,6 +579,19 @@ impl<W: Write + Seek> McapSink<W> {
         self.channels
             .get(channel.0)
             .map_or(0, |c| u64::from(c.sequence))
+    }
+
+    /// Messages and payload bytes written on each channel so far, in registration order.
+    pub(super) fn channel_totals(&self) -> Vec<ChannelTotals> {
+        self.channels
+            .iter()
+            .map(|c| ChannelTotals {
+                topic: c.topic.clone(),
+                schema: format!("{}.{}", c.package, c.name),
+                messages: u64::from(c.sequence),
+                payload_bytes: c.payload_bytes,
+            })
+            .collect()
     }
 
     /// Writes the summary and footer and hands back the underlying writer.

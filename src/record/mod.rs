@@ -8,11 +8,13 @@
 //! displacement, velocity and acceleration downward positive; strain tension positive;
 //! forces pressing on the road positive).
 
+mod forecast;
 mod manifest;
 mod quantities;
 mod records;
 mod wim;
 
+pub use forecast::{ForecastRecords, RecordForecast, SensorForecast};
 pub use manifest::{
     BridgeSummary, ChainParameter, DaqClockInfo, Layout, PreviewInfo, RoadSummary, RunInfo,
     RunManifest, SceneInfo, SensorChannelInfo, StreamRates, WimStationInfo,

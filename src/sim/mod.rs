@@ -6,6 +6,7 @@
 
 mod condition;
 mod daq;
+mod forecast;
 mod manifest;
 mod preview;
 mod tap;
@@ -31,6 +32,7 @@ pub use crate::record::{
 };
 pub use condition::{condition_start, ConditionStart};
 use condition::{Condition, SensorTemperature};
+pub use forecast::{forecast, MAX_DRAWN_VEHICLES};
 pub use manifest::manifest;
 pub use tap::SensorTap;
 use tracking::Tracker;

@@ -32,20 +32,8 @@ impl Arrivals {
     pub fn new(resolved: &Resolved) -> Result<Self> {
         let s = &resolved.scenario;
         let parameter_sd_rel = s.traffic.as_ref().map_or(0.0, |t| t.parameter_sd_rel);
-        let generator = match &s.traffic {
-            Some(spec) => {
-                let run = TrafficRun {
-                    seed: s.seed,
-                    road_length_m: s.road.approach_m + s.bridge.span_m + s.road.exit_m,
-                    time_of_day_at_zero_s: (resolved.start_time_ns / 1_000_000_000 % 86_400) as f64,
-                    first_id: resolved.vehicles.iter().map(|v| v.id).max().unwrap_or(0) + 1,
-                };
-                Some(TrafficGenerator::new(spec, &run, "traffic")?)
-            }
-            None => None,
-        };
         Ok(Arrivals {
-            generator,
+            generator: generator(resolved)?,
             parameter_sd_rel,
             dt_ns: resolved.dt_ns,
             dt_s: resolved.dt_s,
@@ -91,12 +79,31 @@ impl Arrivals {
     }
 }
 
+/// The traffic generator of a run (`None` without `[traffic]`): the run draws its
+/// vehicles from it, and so does the forecast of what the run will write.
+pub(super) fn generator(resolved: &Resolved) -> Result<Option<TrafficGenerator>> {
+    let s = &resolved.scenario;
+    let Some(spec) = &s.traffic else {
+        return Ok(None);
+    };
+    let run = TrafficRun {
+        seed: s.seed,
+        road_length_m: s.road.approach_m + s.bridge.span_m + s.road.exit_m,
+        time_of_day_at_zero_s: (resolved.start_time_ns / 1_000_000_000 % 86_400) as f64,
+        first_id: resolved.vehicles.iter().map(|v| v.id).max().unwrap_or(0) + 1,
+    };
+    Ok(Some(TrafficGenerator::new(spec, &run, "traffic")?))
+}
+
 /// The vehicle's dynamics: its class preset scaled to the draw. A draw the preset cannot
 /// carry on straight springs (rare extreme load shares) runs as moving forces with the
 /// drawn loads, and says so on `/events`.
 /// Springs and dampers vary from vehicle to vehicle by `parameter_sd_rel`
 /// ([`VehicleDynamics::varied`]).
-fn dynamics_of(g: &GeneratedVehicle, parameter_sd_rel: f64) -> (VehicleDynamics, Option<String>) {
+pub(super) fn dynamics_of(
+    g: &GeneratedVehicle,
+    parameter_sd_rel: f64,
+) -> (VehicleDynamics, Option<String>) {
     let shares: Vec<f64> = g.axle_load_n.iter().map(|l| l / g.gross_weight_n).collect();
     let prefix = format!("traffic.vehicle.{}", g.id);
     match vehicle_for_traffic(

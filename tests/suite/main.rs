@@ -19,6 +19,7 @@ mod determinism;
 mod dlc_study;
 mod environment;
 mod environment_run;
+mod estimate;
 mod examples;
 mod foxglove;
 mod input_decoders;

@@ -74,6 +74,44 @@ pub(super) fn output_cases() -> Vec<Case> {
         )
         .writing_to("afile/run.mcap")
         .file("afile", b"not a folder"),
+        // A file system stand-in with 1000 bytes free (a test cannot fill a disk): the
+        // half-second run's estimate, about 100 KiB, does not fit. The message names the
+        // estimate, the free space, the folder and the flag that overrides it.
+        Case::raw(
+            "an estimate beyond the free space",
+            ok(),
+            &[
+                "refusing to write run.mcap",
+                "estimated size",
+                "KiB",
+                "exceeds the 1000 B free",
+                "output folder .",
+                "--skip-space-check",
+            ],
+        )
+        .env("BRIDGETWIN_FREE_SPACE_BYTES", "1000"),
+        Case::raw(
+            "an estimate beyond the free space of the output's folder",
+            ok(),
+            &[
+                "refusing to write sub/run.mcap",
+                "output folder sub",
+                "1000 B free",
+            ],
+        )
+        .writing_to("sub/run.mcap")
+        .folder("sub", 0o755)
+        .env("BRIDGETWIN_FREE_SPACE_BYTES", "1000"),
+        Case::raw(
+            "free-space stand-in not a number",
+            ok(),
+            &[
+                "BRIDGETWIN_FREE_SPACE_BYTES",
+                "\"lots\"",
+                "whole number of bytes",
+            ],
+        )
+        .env("BRIDGETWIN_FREE_SPACE_BYTES", "lots"),
     ]
 }
 

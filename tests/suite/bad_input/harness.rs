@@ -53,6 +53,8 @@ pub(super) struct Case {
     out: String,
     /// Skip unless a probe file cannot be created in this folder (root writes anywhere).
     needs_unwritable: Option<&'static str>,
+    /// Environment variables set for the run.
+    env: Vec<(&'static str, &'static str)>,
 }
 
 pub(super) fn edited(edits: &[Edit]) -> String {
@@ -163,6 +165,7 @@ impl Case {
             or_else: None,
             out: "run.mcap".into(),
             needs_unwritable: None,
+            env: Vec::new(),
         }
     }
 
@@ -185,6 +188,7 @@ impl Case {
             or_else: None,
             out,
             needs_unwritable: None,
+            env: Vec::new(),
         }
     }
 
@@ -216,6 +220,12 @@ impl Case {
     /// Skipped when `folder` turns out to be writable.
     pub(super) fn needs_unwritable(mut self, folder: &'static str) -> Case {
         self.needs_unwritable = Some(folder);
+        self
+    }
+
+    /// Runs with the environment variable `name` set to `value`.
+    pub(super) fn env(mut self, name: &'static str, value: &'static str) -> Case {
+        self.env.push((name, value));
         self
     }
 
@@ -281,6 +291,7 @@ fn run_case(case: &Case) -> Result<Outcome, String> {
 
     let mut child = Command::new(BIN)
         .args(&case.args)
+        .envs(case.env.iter().copied())
         .current_dir(dir)
         .stdin(Stdio::null())
         .stdout(Stdio::null())
