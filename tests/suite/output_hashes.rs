@@ -24,6 +24,10 @@
 //!   damping matrix on the modes with the band product of the finite-element model, which
 //!   is now stored as a band, instead of a dense product: the same sum in another order,
 //!   so the damping ratios, and the ambient loads scaled by them, move at round-off.
+//! - every example with a rough road (all but damage_onset and moving_force): the road
+//!   profile's inverse FFT is the scalar one on every CPU (it picked AVX or SSE code at
+//!   run time, so its round-off, and a run's bytes, depended on the machine): the
+//!   profiles move at round-off.
 
 use std::path::Path;
 use std::process::Command;
@@ -36,17 +40,17 @@ const PINNED: &[(&str, f64, &str)] = &[
     (
         "",
         0.0,
-        "5ad9e87507d81682eedcc01867f9e929933f252250e75abab10a9333b6506944",
+        "dd55b4f13b0a593475658368d542cd6968e8c0323ad66fa5aa5ea9fbe22a4272",
     ),
     (
         "ambient_monitoring",
         20.0,
-        "8e830bba1ede8fc3ff1de501c917911a625d58a99d5fc8b8c533514da947d2ad",
+        "fe061ff113551ba67a7373191dd65590a8c878394bebad9e4341c7a32eaf34ae",
     ),
     (
         "ambient_monitoring",
         120.0,
-        "aba1b1588387c81108f7a227edd9208aaf8eea4efc6ac201fbbe4fc41c396171",
+        "5295aa7e7197a179b399f938b2a622998429bbd93b6eb626da987236bef7aa4e",
     ),
     (
         "damage_onset",
@@ -56,17 +60,17 @@ const PINNED: &[(&str, f64, &str)] = &[
     (
         "day_of_traffic",
         20.0,
-        "cd731f3ebf991d3705f5fce3dc693352cf374b6d106b15d83f9534ee73335272",
+        "360ebe009711ae1d49fd9543ec71a939256358bd4918024934ee6575b8740707",
     ),
     (
         "hour_of_traffic",
         20.0,
-        "9e922db05bc170aa959169b5699511f0012add70e4c03337012d1c7c6126e223",
+        "8dde1c37dcc75843f018b7d4d5a05f96c9f946a18af509f141c772ffa8bbdafe",
     ),
     (
         "hour_of_traffic",
         60.0,
-        "8e260c828b6c1c5cc9771c22506ab2cec3f098dbeec299b67ea195c178e0a287",
+        "53bad0fcced37b0308bbb6024c599e8fc921946d31ca0e8cc59c086745754bfc",
     ),
     (
         "moving_force",
@@ -76,17 +80,17 @@ const PINNED: &[(&str, f64, &str)] = &[
     (
         "paper_case",
         20.0,
-        "008dcf9f5730589c79af647d0a6a534da889eaec06f8e5090ed1035000392ca3",
+        "cddbcef109054c7d6f950ff0c3a42699634e9234b74537646a4a4779290ba238",
     ),
     (
         "two_trucks",
         20.0,
-        "5655e4f15ae6cd300c5c1b06298ed1efbc96d8193908eeeceadfe74a04e55829",
+        "eb4ae1a87478a12edacaeb62466d386300a65b967c85b467a384c8d0205660fc",
     ),
     (
         "two_trucks",
         40.0,
-        "5997959e6354fbe525bc2b2be7425164629628cb297634d798d7d5993174ed70",
+        "d4020f68581459732752c1000d26ff6e8909444627e374861d9b0281ef862564",
     ),
 ];
 
