@@ -46,8 +46,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 
 /// Sets `BRIDGETWIN_GIT_REVISION` for the crate: the value given at build time if any
 /// (builds from a source archive), else `git describe --always --dirty --abbrev=12` of the
-/// source tree, else nothing (the crate then says "unknown"). Rebuilt when HEAD moves or
-/// the index changes (a commit, a checkout, `git add`).
+/// source tree, else nothing (the crate then says "unknown"). Rerun when HEAD moves (a
+/// commit, a checkout) or a source file changes (the tree turns dirty). Not on a change of
+/// the index: `git status` and other tools rewrite it without changing anything, and each
+/// rewrite would rebuild the whole crate (four minutes in CI).
 fn git_revision() {
     println!("cargo:rerun-if-env-changed=BRIDGETWIN_GIT_REVISION");
     if std::env::var_os("BRIDGETWIN_GIT_REVISION").is_some() {
@@ -62,10 +64,11 @@ fn git_revision() {
             .and_then(|out| String::from_utf8(out.stdout).ok())
             .map(|text| text.trim().to_string())
     };
-    for file in ["HEAD", "index"] {
-        if let Some(path) = git(&["rev-parse", "--git-path", file]) {
-            println!("cargo:rerun-if-changed={path}");
-        }
+    if let Some(path) = git(&["rev-parse", "--git-path", "HEAD"]) {
+        println!("cargo:rerun-if-changed={path}");
+    }
+    for sources in ["src", "Cargo.toml", "build.rs"] {
+        println!("cargo:rerun-if-changed={sources}");
     }
     if let Some(head_ref) = git(&["symbolic-ref", "-q", "HEAD"]) {
         if let Some(path) = git(&["rev-parse", "--git-path", &head_ref]) {

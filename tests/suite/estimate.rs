@@ -249,3 +249,95 @@ fn scenario_check_and_simulate_print_the_same_estimate_line() {
         "{quiet_text}"
     );
 }
+
+/// The estimate against the run at full length, the default scenario and every example
+/// (the day of traffic writes about 24 files and takes minutes): steps, messages and bytes
+/// within the factors above, and the wall time the estimate announced beside the time the
+/// run took from its line to the end (reported, not checked: it is this machine's).
+/// Opt-in, for the README's table:
+/// `cargo test --release --test suite estimate::full_length -- --ignored --nocapture`
+/// (the table is also written to `target/estimate_full_length.md`).
+#[test]
+#[ignore = "slow (minutes, gigabytes): every example at full length"]
+fn full_length_estimates_are_within_their_factors() {
+    let mut rows = vec![
+        "| run | steps | messages: estimated / written | bytes: estimated / written | wall time: estimated / taken |".to_string(),
+        "|---|---|---|---|---|".to_string(),
+    ];
+    let mut failures = Vec::new();
+    for &(file, _) in CASES {
+        let (scenario, text) = match file {
+            Some(path) => Scenario::from_file(Path::new(path)).expect("the example loads"),
+            None => (
+                Scenario::default_scenario(),
+                bridgetwin::scenario::DEFAULT_SCENARIO_TOML.to_string(),
+            ),
+        };
+        let mut resolved = scenario.resolve().expect("resolves");
+        resolved.source_toml = text;
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("run.mcap");
+        let mut progress = |_: &RunProgress| {};
+        let mut control = Control {
+            progress: &mut progress,
+            stop: None,
+        };
+        let mut estimate = None;
+        let mut estimated_at = None;
+        let options = FilesOptions {
+            force: false,
+            space_check: SpaceCheck::default(),
+        };
+        let outcome = run_to_files(&resolved, &out, options, &mut control, &mut |e| {
+            estimate = Some(e.clone());
+            estimated_at = Some(std::time::Instant::now());
+        })
+        .map_err(|(e, _)| e)
+        .expect("runs");
+        let taken_s = estimated_at.expect("estimated").elapsed().as_secs_f64();
+        let estimate = estimate.expect("estimated");
+        let bridgetwin::app::run::FilesOutcome::Finished { written, paths } = outcome else {
+            panic!("the run was stopped")
+        };
+        let bytes: u64 = paths
+            .iter()
+            .map(|p| std::fs::metadata(p).unwrap().len())
+            .sum();
+        let name = file.unwrap_or("default scenario");
+        let messages_ratio = estimate.messages as f64 / written.messages as f64;
+        let bytes_ratio = estimate.bytes as f64 / bytes as f64;
+        rows.push(format!(
+            "| {name} ({} s, {} files) | {} | {} / {} ({messages_ratio:.3}) | {} / {} ({bytes_ratio:.3}) | {:.1} s / {taken_s:.1} s ({:.2}) |",
+            resolved.duration_s(),
+            paths.len(),
+            resolved.steps,
+            estimate.messages,
+            written.messages,
+            estimate.bytes,
+            bytes,
+            estimate.timing.wall_s,
+            estimate.timing.wall_s / taken_s,
+        ));
+        eprintln!("{}", rows.last().unwrap());
+        let within = |r: f64, factor: f64| r <= factor && r >= 1.0 / factor;
+        if written.summary.steps != resolved.steps {
+            failures.push(format!(
+                "{name}: steps {} != {}",
+                written.summary.steps, resolved.steps
+            ));
+        }
+        if !within(messages_ratio, MESSAGES_FACTOR) {
+            failures.push(format!("{name}: messages off by {messages_ratio:.3}"));
+        }
+        if !within(bytes_ratio, BYTES_FACTOR) {
+            failures.push(format!("{name}: bytes off by {bytes_ratio:.3}"));
+        }
+    }
+    let table = rows.join("\n");
+    println!("{table}");
+    let _ = std::fs::write(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("target/estimate_full_length.md"),
+        format!("{table}\n"),
+    );
+    assert!(failures.is_empty(), "{}\n\n{table}", failures.join("\n"));
+}
