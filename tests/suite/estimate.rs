@@ -251,7 +251,7 @@ fn scenario_check_and_simulate_print_the_same_estimate_line() {
 }
 
 /// The estimate against the run at full length, the default scenario and every example
-/// (the day of traffic writes about 24 files and takes minutes): steps, messages and bytes
+/// (the day of traffic writes 24 files, more than 10 GB, and takes over an hour): steps, messages and bytes
 /// within the factors above, and the wall time the estimate announced beside the time the
 /// run took from its line to the end (reported, not checked: it is this machine's).
 /// Opt-in, for the README's table:

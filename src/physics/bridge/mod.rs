@@ -16,7 +16,7 @@ pub use lumped::{
     unit_load_deflection_m_per_n,
 };
 pub use mesh::{HermiteMesh, PointQuantity};
-pub use model::{BridgeModel, LumpedStiffness, ModelSpec, REPORTED_MODES};
+pub use model::{BridgeModel, LumpedStiffness, ModelSpec, MAX_ELEMENTS, REPORTED_MODES};
 pub use modes::{generalized_modes, Modes, Rayleigh, Wanted, DENSE_EIGEN_MAX_DOF};
 pub use sparse::SparseVec;
 

@@ -166,7 +166,7 @@ fn the_schema_states_the_bounds_the_loader_checks() {
         ("solver.dt_s", "0.1", "0.2"),
         ("solver.newmark.gamma", "0.5", "0.49"),
         ("solver.newmark.beta", "0.5", "0.0"),
-        ("bridge.model.elements", "100000", "100001"),
+        ("bridge.model.elements", "20000", "20001"),
         ("vehicles.0.speed_m_s", "100.0", "100.5"),
         ("vehicles.0.direction", "-1", "0"),
         ("vehicles.0.model.preset", "\"vbi2d_e01\"", "\"vbi2d_e02\""),
