@@ -205,21 +205,5 @@ fn the_largest_accepted_mesh_builds_and_runs() {
     let dir = tempfile::tempdir().unwrap();
     let scenario = dir.path().join("largest.toml");
     std::fs::write(&scenario, toml).unwrap();
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_bridgetwin"))
-        .args([
-            "simulate",
-            scenario.to_str().unwrap(),
-            "--duration-s",
-            "0.001",
-            "--quiet",
-        ])
-        .arg("--out")
-        .arg(dir.path().join("run.mcap"))
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{largest} elements: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    crate::common::simulate_file(Some(&scenario), &dir.path().join("run.mcap"), 0.001);
 }

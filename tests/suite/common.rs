@@ -95,17 +95,24 @@ pub fn sensor_samples(records: &[Record], index: usize) -> Vec<Sample> {
 /// `dir/run.mcap`; returns the file's path.
 pub fn simulate_default_file(dir: &Path, duration_s: f64) -> std::path::PathBuf {
     let out = dir.join("run.mcap");
-    let status = std::process::Command::new(env!("CARGO_BIN_EXE_bridgetwin"))
-        .args([
-            "simulate",
-            "--duration-s",
-            &duration_s.to_string(),
-            "--quiet",
-            "--out",
-        ])
-        .arg(&out)
-        .status()
-        .unwrap();
-    assert!(status.success(), "simulate --duration-s {duration_s}");
+    simulate_file(None, &out, duration_s);
     out
+}
+
+/// `bridgetwin simulate [SCENARIO] --duration-s DURATION --out OUT` by the binary, as a
+/// user runs it (the default scenario without `scenario`); panics with its stderr if it
+/// fails.
+pub fn simulate_file(scenario: Option<&Path>, out: &Path, duration_s: f64) {
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_bridgetwin"))
+        .arg("simulate")
+        .args(scenario)
+        .args(["--duration-s", &duration_s.to_string(), "--quiet", "--out"])
+        .arg(out)
+        .output()
+        .unwrap();
+    assert!(
+        output.status.success(),
+        "simulate {scenario:?} --duration-s {duration_s}: {}",
+        String::from_utf8_lossy(&output.stderr)
+    );
 }

@@ -11,7 +11,7 @@ use bridgetwin::app::estimate::estimate_output_of;
 use bridgetwin::app::run::{run_to_files, sink_options, write_run, FilesOptions, WriterThread};
 use bridgetwin::app::space::SpaceCheck;
 use bridgetwin::output::{FileShape, McapSink};
-use bridgetwin::scenario::Scenario;
+use bridgetwin::scenario::{Resolved, Scenario};
 use bridgetwin::sim::{prepare, Control, RunProgress};
 
 /// Largest ratio between estimated and written message counts, either way. What the
@@ -48,13 +48,9 @@ const CASES: &[(Option<&str>, Option<f64>)] = &[
     (Some("examples/day_of_traffic.toml"), Some(30.0)),
 ];
 
-/// (estimated steps, messages, bytes; written steps, messages, bytes) of a run written
-/// to files in `dir` as `simulate` writes it.
-fn estimated_and_written(
-    file: Option<&str>,
-    duration_s: Option<f64>,
-    dir: &Path,
-) -> ([u64; 3], [u64; 3]) {
+/// The scenario `file` (or the default one), cut to `duration_s` if given, resolved with
+/// its text stored as `simulate` stores it (its bytes count in the estimate).
+fn resolved_case(file: Option<&str>, duration_s: Option<f64>) -> Resolved {
     let (mut scenario, text) = match file {
         Some(path) => Scenario::from_file(Path::new(path)).expect("the example loads"),
         None => (
@@ -67,6 +63,17 @@ fn estimated_and_written(
     }
     let mut resolved = scenario.resolve().expect("resolves");
     resolved.source_toml = text;
+    resolved
+}
+
+/// (estimated steps, messages, bytes; written steps, messages, bytes) of a run written
+/// to files in `dir` as `simulate` writes it.
+fn estimated_and_written(
+    file: Option<&str>,
+    duration_s: Option<f64>,
+    dir: &Path,
+) -> ([u64; 3], [u64; 3]) {
+    let resolved = resolved_case(file, duration_s);
     let prepared = prepare(&resolved).expect("prepares");
     let options = sink_options(&resolved, false);
     let shape = FileShape::new(&options, Some(resolved.flush_every_ns));
@@ -266,15 +273,7 @@ fn full_length_estimates_are_within_their_factors() {
     ];
     let mut failures = Vec::new();
     for &(file, _) in CASES {
-        let (scenario, text) = match file {
-            Some(path) => Scenario::from_file(Path::new(path)).expect("the example loads"),
-            None => (
-                Scenario::default_scenario(),
-                bridgetwin::scenario::DEFAULT_SCENARIO_TOML.to_string(),
-            ),
-        };
-        let mut resolved = scenario.resolve().expect("resolves");
-        resolved.source_toml = text;
+        let resolved = resolved_case(file, None);
         let dir = tempfile::tempdir().unwrap();
         let out = dir.path().join("run.mcap");
         let mut progress = |_: &RunProgress| {};

@@ -16,19 +16,7 @@ fn simulate(dir: &Path, name: &str, output_lines: &str) -> PathBuf {
     let scenario = dir.join(format!("{name}.toml"));
     std::fs::write(&scenario, text).unwrap();
     let out = dir.join(format!("{name}.mcap"));
-    let status = Command::new(env!("CARGO_BIN_EXE_bridgetwin"))
-        .arg("simulate")
-        .arg(&scenario)
-        .arg("--out")
-        .arg(&out)
-        .args(["--duration-s", "6"])
-        .output()
-        .unwrap();
-    assert!(
-        status.status.success(),
-        "{}",
-        String::from_utf8_lossy(&status.stderr)
-    );
+    crate::common::simulate_file(Some(&scenario), &out, 6.0);
     out
 }
 

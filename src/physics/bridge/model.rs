@@ -11,6 +11,7 @@ use super::lumped::{condensation_mesh, condense, stiffness_by_flexibility};
 use super::mesh::{HermiteMesh, PointQuantity};
 use super::modes::{EigenRoute, Modes, Rayleigh, Wanted};
 use super::sparse::SparseVec;
+use crate::base::units::bytes_text;
 use crate::error::{Error, Result};
 use crate::physics::linalg::{SymBand, SymMatrix};
 
@@ -68,14 +69,6 @@ pub enum ModelSpec {
 }
 crate::base::tagged::kind_tagged!(ModelSpec);
 
-/// `4.0 GiB`, `12.3 MiB`.
-fn gib(bytes: u64) -> String {
-    match bytes >= 1 << 30 {
-        true => format!("{:.1} GiB", bytes as f64 / (1u64 << 30) as f64),
-        false => format!("{:.1} MiB", bytes as f64 / (1u64 << 20) as f64),
-    }
-}
-
 /// Route to the lumped-mass stiffness.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
@@ -127,8 +120,8 @@ impl ModelSpec {
                 format!(
                     "needs about {} to build and run (estimate), above the limit of {}: \
                      use a smaller model",
-                    gib(bytes),
-                    gib(MAX_MODEL_MEMORY_BYTES)
+                    bytes_text(bytes),
+                    bytes_text(MAX_MODEL_MEMORY_BYTES)
                 ),
             ));
         }
