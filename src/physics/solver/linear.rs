@@ -490,7 +490,11 @@ mod small_lu_tests {
             .collect();
         let mut lu = SmallLu::with_capacity(8);
         lu.solve(n, a, &mut b);
-        let error = b.iter().zip(&x).map(|(u, v)| (u - v).abs()).fold(0.0, f64::max);
+        let error = b
+            .iter()
+            .zip(&x)
+            .map(|(u, v)| (u - v).abs())
+            .fold(0.0, f64::max);
         assert!(error < 1e-10, "largest error {error:e}");
     }
 }
