@@ -58,6 +58,18 @@ fn on_items(schema: &mut Schema, bound: &str) {
     }
 }
 
+/// An object that must have exactly one of the keys `names` (`oneOf` of `required`): a
+/// bridge's `span_m` or `spans_m`.
+pub fn exactly_one_key(names: &'static [&'static str]) -> impl FnMut(&mut Schema) {
+    move |schema: &mut Schema| {
+        let choices: Vec<Value> = names
+            .iter()
+            .map(|&n| serde_json::json!({ "required": [n] }))
+            .collect();
+        schema.insert("oneOf".into(), choices.into());
+    }
+}
+
 /// A string that must be one of `names` (`enum`), for checks that look a name up in a
 /// list (`COST323_CLASS_NAMES`).
 pub fn one_of(names: &'static [&'static str]) -> impl FnMut(&mut Schema) {

@@ -15,7 +15,9 @@ use super::proto::v1::{
 use super::scene::SCENE_FRAME;
 use super::{metadata, ChannelId, McapSink, Topics};
 use crate::error::Result;
-use crate::record::{Layout, PreviewInfo, RunManifest, SensorChannelInfo, SensorKind};
+use crate::record::{
+    GirderSummary, Layout, PreviewInfo, RunManifest, SensorChannelInfo, SensorKind,
+};
 
 /// The channels of one sensor.
 pub(super) struct SensorChannels {
@@ -189,9 +191,12 @@ fn write_metadata<W: Write + Seek>(sink: &mut McapSink<W>, manifest: &RunManifes
                 "mass_per_length_kg_m".to_string(),
                 b.mass_per_length_kg_m.to_string(),
             ),
-            ("span_m".to_string(), b.span_m.to_string()),
+            ("span_m".to_string(), b.length_m.to_string()),
             ("road".to_string(), manifest.road.description.clone()),
-        ]),
+        ])
+        .into_iter()
+        .chain(girder_metadata(b.layout.as_ref()))
+        .collect(),
     )?;
     let start = run.start_time_ns;
     sink.attach(
@@ -352,4 +357,26 @@ fn preview_channels<W: Write + Seek>(
     );
     let truth = add(sink, &truth_topic, meta)?;
     Ok((measured, truth))
+}
+
+/// `spans_m`, `support_position_m` and `supports` (comma-separated) of a continuous
+/// girder; nothing for one simple span, whose `span_m` says it all. (`span_m` is then the
+/// girder's whole length.)
+fn girder_metadata(layout: Option<&GirderSummary>) -> Vec<(String, String)> {
+    let list = |v: &[f64]| {
+        v.iter()
+            .map(|x| x.to_string())
+            .collect::<Vec<_>>()
+            .join(",")
+    };
+    layout.map_or_else(Vec::new, |g| {
+        vec![
+            ("spans_m".to_string(), list(&g.spans_m)),
+            (
+                "support_position_m".to_string(),
+                list(&g.support_position_m),
+            ),
+            ("supports".to_string(), g.supports.join(",")),
+        ]
+    })
 }

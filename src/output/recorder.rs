@@ -466,7 +466,7 @@ impl<W: Write + Seek> Recorder for McapRecorder<'_, W> {
             channels,
             start_time_ns: manifest.run.start_time_ns,
             shape_position_m: manifest.bridge.shape_position_m.clone(),
-            span_m: manifest.bridge.span_m,
+            span_m: manifest.bridge.length_m,
             blocked: manifest.layout == Layout::Block,
             scene: SceneGeometry::new(manifest).map(|geometry| SceneState {
                 geometry,

@@ -84,7 +84,7 @@ impl SceneGeometry {
         let info = manifest.scene?;
         Some(SceneGeometry {
             info,
-            span_m: manifest.bridge.span_m,
+            span_m: manifest.bridge.length_m,
             deck_width_m: f64::from(info.lanes.max(1)) * LANE_WIDTH_M,
             node_position_m: manifest.bridge.shape_position_m.clone(),
             sensors: manifest

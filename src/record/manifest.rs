@@ -51,11 +51,24 @@ pub struct BridgeSummary {
     pub rayleigh_a1_s: f64,
     pub flexural_rigidity_n_m2: f64,
     pub mass_per_length_kg_m: f64,
-    pub span_m: f64,
-    /// Positions of the deflected-shape nodes on `/truth/bridge` (m from the left support).
+    /// Length of the girder, overhangs included (m): the span of a single span.
+    pub length_m: f64,
+    /// The girder's layout when it is not one simply supported span: span lengths,
+    /// support positions (m from the left end) and support kinds.
+    pub layout: Option<GirderSummary>,
+    /// Positions of the deflected-shape nodes on `/truth/bridge` (m from the left end).
     pub shape_position_m: Vec<f64>,
     /// (structure, air) temperatures at t = 0 (degC) when the run has an environment.
     pub temperatures_c: Option<(f64, f64)>,
+}
+
+/// Spans and supports of a continuous girder.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GirderSummary {
+    pub spans_m: Vec<f64>,
+    pub support_position_m: Vec<f64>,
+    /// `pinned`, `roller`, `fixed` or `elastic`, one per support.
+    pub supports: Vec<String>,
 }
 
 /// The road profile.
@@ -190,7 +203,8 @@ impl RunManifest {
                 rayleigh_a1_s: 0.0,
                 flexural_rigidity_n_m2: 5.629e10,
                 mass_per_length_kg_m: 12_000.0,
-                span_m: 30.0,
+                length_m: 30.0,
+                layout: None,
                 shape_position_m: vec![0.0, 15.0, 30.0],
                 temperatures_c: None,
             },

@@ -16,8 +16,8 @@ mod wim;
 
 pub use forecast::{ForecastRecords, RecordForecast, SensorForecast};
 pub use manifest::{
-    BridgeSummary, ChainParameter, DaqClockInfo, Layout, PreviewInfo, RoadSummary, RunInfo,
-    RunManifest, SceneInfo, SensorChannelInfo, StreamRates, WimStationInfo,
+    BridgeSummary, ChainParameter, DaqClockInfo, GirderSummary, Layout, PreviewInfo, RoadSummary,
+    RunInfo, RunManifest, SceneInfo, SensorChannelInfo, StreamRates, WimStationInfo,
 };
 pub use quantities::{Quantities, SensorKind};
 pub use records::{

@@ -18,7 +18,9 @@ use serde::{Deserialize, Serialize};
 use crate::base::schema as bounds;
 use crate::base::tagged;
 use crate::error::{Error, Result};
-use crate::physics::bridge::{BeamProperties, ModelSpec, StiffnessRegion};
+use crate::physics::bridge::{
+    BeamProperties, Girder, ModelSpec, Section, StiffnessRegion, Support,
+};
 use crate::physics::road::RoadProfileSpec;
 use crate::physics::solver::{ContactLaw, NewmarkParams};
 use crate::physics::vehicle::VehicleModelSpec;
@@ -57,7 +59,7 @@ pub struct Scenario {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schemars(transform = bounds::positive, range(max = resolve::MAX_DURATION_S))]
     pub duration_s: Option<f64>,
-    /// The simply supported beam: span, EI, mass, damping and its discretization.
+    /// The girder: spans, supports, sections, damping and its discretization.
     pub bridge: BridgeSection,
     /// Time step and integrator.
     #[serde(default)]
@@ -107,16 +109,41 @@ fn default_start_time() -> String {
 /// The bridge.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
+#[schemars(transform = bounds::exactly_one_key(&["span_m", "spans_m"]))]
 pub struct BridgeSection {
-    /// Span between the supports (m), at most 10 km.
+    /// One simply supported span (m), at most 10 km; or give `spans_m` instead.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schemars(transform = bounds::positive, range(max = resolve::MAX_SPAN_M))]
-    pub span_m: f64,
-    /// Flexural rigidity EI of the uniform beam (N m^2).
+    pub span_m: Option<f64>,
+    /// Span lengths of a continuous girder, left to right (m, each at most 10 km); or give
+    /// `span_m` for one span. May be empty for a cantilever (one fixed support and an
+    /// overhang).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(transform = bounds::positive_items)]
+    pub spans_m: Option<Vec<f64>>,
+    /// The support at each span end, left to right: `"pinned"`, `"roller"`, `"fixed"` or
+    /// `{ elastic = { vertical_n_m = .., rotational_n_m_rad = .. } }` (default: pinned at
+    /// the first, rollers at the others).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub supports: Option<Vec<Support>>,
+    /// Free overhang beyond the first support (m, default 0); x = 0 is its tip.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    #[schemars(range(min = 0))]
+    pub overhang_left_m: f64,
+    /// Free overhang beyond the last support (m, default 0).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    #[schemars(range(min = 0))]
+    pub overhang_right_m: f64,
+    /// Flexural rigidity EI of the reference section (N m^2).
     #[schemars(transform = bounds::positive)]
     pub flexural_rigidity_n_m2: f64,
-    /// Mass per unit length (kg/m).
+    /// Mass per unit length of the reference section (kg/m).
     #[schemars(transform = bounds::positive)]
     pub mass_per_length_kg_m: f64,
+    /// Segments with their own EI and mass, constant or linearly varying (haunches over
+    /// piers), in m from the girder's left end (default none).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub sections: Vec<Section>,
     /// Rayleigh damping ratio on modes 1 and 2, in [0, 1) (default 0.02).
     #[serde(default = "default_damping")]
     #[schemars(range(min = 0), transform = bounds::below(1.0))]
@@ -136,13 +163,53 @@ fn default_model() -> ModelSpec {
     ModelSpec::FiniteElement { elements: 30 }
 }
 
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
+}
+
 impl BridgeSection {
+    /// The span lengths, from `spans_m` or the single `span_m`.
+    pub fn spans(&self) -> Vec<f64> {
+        match &self.spans_m {
+            Some(spans) => spans.clone(),
+            None => self.span_m.into_iter().collect(),
+        }
+    }
+
+    /// The girder's layout (supports by default pinned, then rollers).
+    pub fn girder(&self) -> Girder {
+        let spans = self.spans();
+        let supports = self.supports.clone().unwrap_or_else(|| {
+            (0..=spans.len())
+                .map(|i| {
+                    if i == 0 {
+                        Support::Pinned
+                    } else {
+                        Support::Roller
+                    }
+                })
+                .collect()
+        });
+        Girder {
+            spans_m: spans,
+            supports,
+            overhang_left_m: self.overhang_left_m,
+            overhang_right_m: self.overhang_right_m,
+        }
+    }
+
+    /// Total length of the girder, overhangs included (m).
+    pub fn length_m(&self) -> f64 {
+        self.girder().length_m()
+    }
+
     /// The physical beam.
     pub fn beam(&self) -> BeamProperties {
         BeamProperties {
-            span_m: self.span_m,
+            girder: self.girder(),
             flexural_rigidity_n_m2: self.flexural_rigidity_n_m2,
             mass_per_length_kg_m: self.mass_per_length_kg_m,
+            sections: self.sections.clone(),
             stiffness_regions: self.stiffness_regions.clone(),
         }
     }

@@ -84,6 +84,7 @@ impl Scenario {
 
     /// Checks every field and computes the derived values.
     pub fn resolve(&self) -> Result<Resolved> {
+        self.check_spans()?;
         let beam = self.bridge.beam();
         beam.validate("bridge")?;
         self.bridge.model.validate("bridge.model")?;
@@ -142,7 +143,7 @@ impl Scenario {
         }
         self.validate_condition()?;
         if let Some(ambient) = &self.ambient {
-            ambient.validate("ambient", self.bridge.span_m, dt_s)?;
+            ambient.validate("ambient", self.bridge.length_m(), dt_s)?;
         }
         let sensors = self.resolve_sensors(dt_ns)?;
         let wim_stations = self.resolve_wim_stations()?;
@@ -266,18 +267,51 @@ impl Scenario {
         Ok(stations)
     }
 
-    /// Span within `MAX_SPAN_M`, first natural frequency within `F1_RANGE_HZ`. Out of
-    /// range, the error names the field that moves f1 furthest from the paper's bridge
-    /// in that direction (f1 ~ sqrt(EI / m) / L^2).
+    /// One of `span_m` and `spans_m`, each span > 0 and within `MAX_SPAN_M`, named as the
+    /// user wrote it.
+    fn check_spans(&self) -> Result<()> {
+        let b = &self.bridge;
+        let (field, spans) = match (&b.span_m, &b.spans_m) {
+            (Some(_), None) => ("bridge.span_m", b.spans()),
+            (None, Some(spans)) => ("bridge.spans_m", spans.clone()),
+            (Some(span), Some(_)) => {
+                return Err(Error::invalid(
+                    "bridge.span_m",
+                    num(*span),
+                    "give either span_m (one span) or spans_m (a continuous girder), not both",
+                ))
+            }
+            (None, None) => {
+                return Err(Error::invalid(
+                    "bridge",
+                    "(no span)",
+                    "needs span_m (one span) or spans_m (a continuous girder)",
+                ))
+            }
+        };
+        for (i, &span) in spans.iter().enumerate() {
+            let field = match &b.spans_m {
+                Some(_) => format!("{field}.{i}"),
+                None => field.to_string(),
+            };
+            require_positive(&field, span)?;
+            if span > MAX_SPAN_M {
+                return Err(Error::invalid(
+                    field,
+                    num(span),
+                    format!("must be at most {MAX_SPAN_M} m (no bridge spans more)"),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// First natural frequency within `F1_RANGE_HZ`. Out of range, the error names the
+    /// field that moves f1 furthest from the paper's bridge in that direction
+    /// (f1 ~ sqrt(EI / m) / L^2).
     fn check_bridge_plausible(&self) -> Result<()> {
         let b = &self.bridge;
-        if b.span_m > MAX_SPAN_M {
-            return Err(Error::invalid(
-                "bridge.span_m",
-                num(b.span_m),
-                format!("must be at most {MAX_SPAN_M} m (no bridge spans more)"),
-            ));
-        }
+        let span_m = b.girder().longest_span_m();
         let f1 = b.beam().closed_form_frequency_hz(1);
         let (lo, hi) = F1_RANGE_HZ;
         if f1.is_finite() && (lo..=hi).contains(&f1) {
@@ -285,7 +319,7 @@ impl Scenario {
         }
         let paper = BeamProperties::paper_default();
         let shifts = [
-            ("span_m", b.span_m, -2.0 * (b.span_m / paper.span_m).ln()),
+            ("span_m", span_m, -2.0 * (span_m / paper.length_m()).ln()),
             (
                 "flexural_rigidity_n_m2",
                 b.flexural_rigidity_n_m2,
@@ -330,7 +364,7 @@ impl Scenario {
     fn default_duration_s(&self, vehicles: &[ResolvedVehicle], dt_s: f64) -> Result<f64> {
         let mut last = (0.0, None);
         for (i, v) in vehicles.iter().enumerate() {
-            let path = self.road.approach_m + self.bridge.span_m + v.dynamics.wheelbase_m();
+            let path = self.road.approach_m + self.bridge.length_m() + v.dynamics.wheelbase_m();
             let entry_s = v.entry_step as f64 * dt_s;
             let leave = entry_s + path / v.speed_m_s;
             if leave > last.0 {
@@ -365,7 +399,7 @@ impl Scenario {
         if let Some(environment) = &self.environment {
             environment.validate("environment")?;
         }
-        crate::physics::environment::validate_damage(&self.damage, self.bridge.span_m)?;
+        crate::physics::environment::validate_damage(&self.damage, self.bridge.length_m())?;
         if !self.damage.is_empty() {
             if let ModelSpec::Modal { .. } = self.bridge.model {
                 // A local EI loss changes the mode shapes: the modal coordinates of the

@@ -128,9 +128,9 @@ fn implausible_bridges_blame_the_odd_field() {
         msg.starts_with("bridge.mass_per_length_kg_m = 1e300 gives"),
         "{msg}"
     );
-    let msg = error_of(|s| s.bridge.span_m = 1e-300);
+    let msg = error_of(|s| s.bridge.span_m = Some(1e-300));
     assert!(msg.starts_with("bridge.span_m = 1e-300 gives"), "{msg}");
-    let msg = error_of(|s| s.bridge.span_m = 1e300);
+    let msg = error_of(|s| s.bridge.span_m = Some(1e300));
     assert!(
         msg.starts_with("bridge.span_m = 1e300 must be at most 10000 m"),
         "{msg}"

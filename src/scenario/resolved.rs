@@ -180,7 +180,7 @@ impl Resolved {
                     1.0 / (MIN_STEPS_PER_SENSOR_PERIOD * band_edge_hz),
                 ));
             }
-            if let Some(warning) = on_a_support(i, r, s.bridge.span_m) {
+            if let Some(warning) = on_a_support(i, r, s.bridge.length_m()) {
                 out.push(warning);
             }
             if band_edge_hz < f1 {

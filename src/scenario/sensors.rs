@@ -43,11 +43,11 @@ impl Scenario {
                 "is used twice (sensor ids must be unique)",
             )?;
             let p = s.position_m;
-            if !(p.is_finite() && (0.0..=self.bridge.span_m).contains(&p)) {
+            if !(p.is_finite() && (0.0..=self.bridge.length_m()).contains(&p)) {
                 return Err(Error::invalid(
                     format!("{path}.position_m"),
                     num(p),
-                    format!("must lie on the span [0, {}] m", self.bridge.span_m),
+                    format!("must lie on the span [0, {}] m", self.bridge.length_m()),
                 ));
             }
             require_positive(&format!("{path}.rate_hz"), s.rate_hz)?;

@@ -59,7 +59,7 @@ pub fn condition_start(resolved: &Resolved) -> Result<Option<ConditionStart>> {
         std::path::Path::new(""),
         child_rng(s.seed, "environment/temperature"),
     )?;
-    let mut environment = EnvironmentModel::new(&spec, &s.damage, s.bridge.span_m, air)?;
+    let mut environment = EnvironmentModel::new(&spec, &s.damage, s.bridge.length_m(), air)?;
     let state = environment.state_at(0.0);
     Ok(Some(ConditionStart { environment, state }))
 }

@@ -107,7 +107,7 @@ pub fn forecast(resolved: &Resolved, prepared: &Prepared) -> Result<RecordForeca
 
     // Axle loads: one record per stride; its axles are those of the vehicles on the road.
     let axle_records = (resolved.steps / resolved.axle_stride + 1) as f64;
-    let on_road_m = s.road.approach_m + s.bridge.span_m + s.road.exit_m;
+    let on_road_m = s.road.approach_m + s.bridge.length_m() + s.road.exit_m;
     let axle_seconds: f64 = passages
         .iter()
         .map(|p| {
@@ -121,7 +121,7 @@ pub fn forecast(resolved: &Resolved, prepared: &Prepared) -> Result<RecordForeca
     for (axles, weight) in split_mean(mean_axles) {
         let record = Record::AxleLoads {
             t_ns: 0,
-            axles: axle_states(typical, axles, s.bridge.span_m),
+            axles: axle_states(typical, axles, s.bridge.length_m()),
         };
         push(record, axle_records * weight);
     }
@@ -164,7 +164,7 @@ pub fn forecast(resolved: &Resolved, prepared: &Prepared) -> Result<RecordForeca
     };
 
     // Per vehicle: bridge entry and exit on /events, the vehicle record, WIM records.
-    let span_m = s.bridge.span_m;
+    let span_m = s.bridge.length_m();
     // Passages whose front axle has covered `distance_m(p)` of its road by the end.
     let reaching = |distance_m: &dyn Fn(&Passage) -> f64| -> f64 {
         passages

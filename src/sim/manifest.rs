@@ -4,8 +4,8 @@
 use crate::error::Result;
 use crate::measurement::wim::WimModelSpec;
 use crate::record::{
-    BridgeSummary, DaqClockInfo, PreviewInfo, RoadSummary, RunInfo, RunManifest, SensorChannelInfo,
-    StreamRates, WimStationInfo,
+    BridgeSummary, DaqClockInfo, GirderSummary, PreviewInfo, RoadSummary, RunInfo, RunManifest,
+    SensorChannelInfo, StreamRates, WimStationInfo,
 };
 use crate::scenario::{Resolved, ResolvedSensor, SensorKind};
 
@@ -39,7 +39,8 @@ pub fn manifest(resolved: &Resolved, prepared: &Prepared) -> Result<RunManifest>
             rayleigh_a1_s: model.rayleigh.a1_s,
             flexural_rigidity_n_m2: s.bridge.flexural_rigidity_n_m2,
             mass_per_length_kg_m: s.bridge.mass_per_length_kg_m,
-            span_m: s.bridge.span_m,
+            length_m: s.bridge.length_m(),
+            layout: girder_summary(&s.bridge.girder()),
             shape_position_m: model.shape_positions_m().to_vec(),
             temperatures_c: prepared
                 .condition
@@ -118,4 +119,17 @@ fn wim_model_label(model: &WimModelSpec) -> String {
             format!("physics (dynamic tyre force x (1 + N(0, {noise_rel})))")
         }
     }
+}
+
+/// The layout for the run's metadata, when the girder is not one simple span.
+fn girder_summary(girder: &crate::physics::bridge::Girder) -> Option<GirderSummary> {
+    (!girder.is_simple_span()).then(|| GirderSummary {
+        spans_m: girder.spans_m.clone(),
+        support_position_m: girder.support_positions_m(),
+        supports: girder
+            .supports
+            .iter()
+            .map(|s| s.name().to_string())
+            .collect(),
+    })
 }

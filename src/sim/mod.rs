@@ -123,7 +123,7 @@ pub fn prepare(resolved: &Resolved) -> Result<Prepared> {
         false => (s.road.approach_m, s.road.exit_m),
     };
     let x_start = -(left_m + wheelbase + 5.0);
-    let x_end = s.bridge.span_m + right_m + wheelbase + 5.0;
+    let x_end = s.bridge.length_m() + right_m + wheelbase + 5.0;
     let mut rng = child_rng(s.seed, "road");
     let road = RoadProfile::build(&s.road.profile, x_start, x_end, &mut rng)?;
     Ok(Prepared {
@@ -200,7 +200,7 @@ pub fn run_controlled(
         // towards -x.
         let start_m = match v.direction > 0 {
             true => -s.road.approach_m,
-            false => s.bridge.span_m + s.road.approach_m,
+            false => s.bridge.length_m() + s.road.approach_m,
         };
         solver.add_vehicle(
             CoupledVehicle::new(v.id, v.dynamics.clone(), v.speed_m_s, start_m, v.entry_step)
@@ -248,7 +248,7 @@ pub fn run_controlled(
         level: EventLevel::Info,
         text: start_text(resolved, model),
     });
-    let mut tracker = Tracker::new(resolved, model.span_m())?;
+    let mut tracker = Tracker::new(resolved, model.length_m())?;
     let mut shape_ops = vec![SparseVec::default(); model.shape_positions_m().len()];
     let mut midspan = SparseVec::default();
     deflection_operators(model, &mut shape_ops, &mut midspan);
@@ -406,7 +406,7 @@ fn start_text(resolved: &Resolved, model: &BridgeModel) -> String {
         "run starts: {} s simulated; bridge {}, span {} m, f1 = {:.3} Hz; {}, {}; {} listed{traffic}{scene}",
         resolved.duration_s(),
         s.bridge.model.label(),
-        s.bridge.span_m,
+        s.bridge.length_m(),
         model.frequency_hz(1),
         plural(s.sensors.len(), "sensor", "sensors"),
         plural(s.wim_stations.len(), "WIM station", "WIM stations"),
@@ -433,7 +433,7 @@ fn deflection_operators(model: &BridgeModel, shape_ops: &mut [SparseVec], midspa
     for (op, &x) in shape_ops.iter_mut().zip(model.shape_positions_m()) {
         model.point_operator(x, PointQuantity::Deflection, op);
     }
-    model.point_operator(0.5 * model.span_m(), PointQuantity::Deflection, midspan);
+    model.point_operator(0.5 * model.length_m(), PointQuantity::Deflection, midspan);
 }
 
 fn run_progress(

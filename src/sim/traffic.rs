@@ -38,7 +38,7 @@ impl Arrivals {
             dt_ns: resolved.dt_ns,
             dt_s: resolved.dt_s,
             approach_m: s.road.approach_m,
-            span_m: s.bridge.span_m,
+            span_m: s.bridge.length_m(),
         })
     }
 
@@ -88,7 +88,7 @@ pub(super) fn generator(resolved: &Resolved) -> Result<Option<TrafficGenerator>>
     };
     let run = TrafficRun {
         seed: s.seed,
-        road_length_m: s.road.approach_m + s.bridge.span_m + s.road.exit_m,
+        road_length_m: s.road.approach_m + s.bridge.length_m() + s.road.exit_m,
         time_of_day_at_zero_s: (resolved.start_time_ns / 1_000_000_000 % 86_400) as f64,
         first_id: resolved.vehicles.iter().map(|v| v.id).max().unwrap_or(0) + 1,
     };

@@ -58,7 +58,7 @@ fn structured_mode(model: &str) -> SolveMode {
 /// (tested in `solver::newmark`).
 pub fn run_point(model: &'static str, n: usize, dt_s: f64) -> Result<DiscretizationPoint> {
     let beam = BeamProperties::paper_default();
-    let points = [0.3 * beam.span_m, 0.5 * beam.span_m];
+    let points = [0.3 * beam.length_m(), 0.5 * beam.length_m()];
     let mut case = ManufacturedCase {
         beam: beam.clone(),
         spec: spec(model, n),

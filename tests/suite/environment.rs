@@ -617,7 +617,7 @@ fn stepped_beam_f1_hz(base: &BeamProperties, a_m: f64, b_m: f64, reduction: f64)
         segments: vec![
             segment(a_m, 1.0),
             segment(b_m - a_m, 1.0 - reduction),
-            segment(base.span_m - b_m, 1.0),
+            segment(base.length_m() - b_m, 1.0),
         ],
     }
     .frequency_hz(1)

@@ -196,14 +196,12 @@ fn damage_lowers_f1_as_the_eigen_analysis_of_the_damaged_beam_says() {
     // The eigen-analysis of the damaged beam, independent of the run: EI x 0.6 over
     // [12, 18] m, a 60-element model (finer than the run's 20).
     let damaged_beam = BeamProperties {
-        span_m: SPAN_M,
-        flexural_rigidity_n_m2: EI_N_M2,
-        mass_per_length_kg_m: MASS_KG_M,
         stiffness_regions: vec![StiffnessRegion {
             start_m: 12.0,
             end_m: 18.0,
             ei_factor: 0.6,
         }],
+        ..BeamProperties::simply_supported(SPAN_M, EI_N_M2, MASS_KG_M)
     };
     let fine = BridgeModel::build(
         &damaged_beam,

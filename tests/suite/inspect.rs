@@ -138,7 +138,7 @@ fn f1_matches_the_metadata_and_the_closed_form() {
         "{f1} vs {f1_metadata}"
     );
     let b = bridgetwin::scenario::Scenario::default_scenario().bridge;
-    let closed_form = std::f64::consts::FRAC_PI_2 / b.span_m.powi(2)
+    let closed_form = std::f64::consts::FRAC_PI_2 / b.length_m().powi(2)
         * (b.flexural_rigidity_n_m2 / b.mass_per_length_kg_m).sqrt();
     assert!(
         relative_error(f1, closed_form) < 0.01,

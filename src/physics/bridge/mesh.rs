@@ -6,6 +6,7 @@
 use nalgebra::DMatrix;
 
 use super::beam::BeamProperties;
+use super::girder::Support;
 use super::hermite::{
     element_consistent_mass, element_stiffness, shape, shape_dx, shape_dxx, ShapeValues,
 };
@@ -20,15 +21,18 @@ pub struct Element {
     pub mass_per_length_kg_m: f64,
 }
 
-/// Nodes along the span with (w, theta) DOFs; w is fixed at the supports.
+/// Nodes along the girder with (w, theta) DOFs; w is fixed at rigid supports, theta too
+/// at fixed ones, and elastic supports put their springs on the diagonal.
 #[derive(Debug, Clone)]
 pub struct HermiteMesh {
-    /// Node abscissae, strictly increasing, first 0 and last the span (m).
+    /// Node abscissae, strictly increasing, first 0 and last the girder's length (m).
     pub node_x_m: Vec<f64>,
     pub elements: Vec<Element>,
     /// Equation number of (w, theta) at each node; `None` where constrained.
     pub dof: Vec<[Option<usize>; 2]>,
     pub n_dof: usize,
+    /// Support springs: (equation, stiffness in N/m or N m/rad).
+    pub springs: Vec<(usize, f64)>,
 }
 
 /// Which quantity a point operator interpolates.
@@ -43,45 +47,75 @@ pub enum PointQuantity {
 }
 
 impl HermiteMesh {
-    /// A mesh with the given node abscissae; w fixed at every support abscissa (which
-    /// must be nodes). EI per element is the mean over the element.
-    pub fn new(beam: &BeamProperties, node_x_m: Vec<f64>, supports_m: &[f64]) -> Self {
+    /// A mesh with the given node abscissae and the girder's supports (which must be
+    /// nodes). EI and mass per element are the means over the element.
+    pub fn new(beam: &BeamProperties, node_x_m: Vec<f64>) -> Self {
         let elements = node_x_m
             .windows(2)
             .map(|pair| Element {
                 length_m: pair[1] - pair[0],
                 ei_n_m2: beam.mean_ei_n_m2(pair[0], pair[1]),
-                mass_per_length_kg_m: beam.mass_per_length_kg_m,
+                mass_per_length_kg_m: beam.mean_mass_kg_m(pair[0], pair[1]),
             })
             .collect();
-        let tolerance_m = 1e-9 * beam.span_m;
+        let tolerance_m = 1e-9 * beam.length_m();
+        let supports: Vec<(f64, Support)> = beam
+            .girder
+            .support_positions_m()
+            .into_iter()
+            .zip(beam.girder.supports.iter().copied())
+            .collect();
         let mut n_dof = 0;
-        let dof = node_x_m
-            .iter()
-            .map(|&x| {
-                let supported = supports_m.iter().any(|&s| (s - x).abs() < tolerance_m);
-                let w = (!supported).then(|| {
-                    n_dof += 1;
-                    n_dof - 1
-                });
+        let mut springs = Vec::new();
+        let mut next = |free: bool| {
+            free.then(|| {
                 n_dof += 1;
-                [w, Some(n_dof - 1)]
+                n_dof - 1
             })
-            .collect();
+        };
+        let mut dof = Vec::with_capacity(node_x_m.len());
+        for &x in &node_x_m {
+            let support = supports
+                .iter()
+                .find(|(s, _)| (s - x).abs() < tolerance_m)
+                .map(|&(_, kind)| kind);
+            let w = next(!support.is_some_and(|s| s.rigid_vertical()));
+            let theta = next(!support.is_some_and(|s| s.rigid_rotation()));
+            let (kv, kr) = support.map_or((0.0, 0.0), |s| s.springs());
+            for (equation, k) in [(w, kv), (theta, kr)] {
+                if let (Some(e), true) = (equation, k > 0.0) {
+                    springs.push((e, k));
+                }
+            }
+            dof.push([w, theta]);
+        }
         HermiteMesh {
             node_x_m,
             elements,
             dof,
             n_dof,
+            springs,
         }
     }
 
-    /// Simply supported beam with `n_elements` equal elements.
+    /// The girder with about `n_elements` elements: a node at every end, support and
+    /// section edge, each piece between them divided into equal elements in proportion to
+    /// its length (at least one each). A single span without sections gets exactly
+    /// `n_elements` equal elements.
+    pub fn on_girder(beam: &BeamProperties, n_elements: usize) -> Self {
+        Self::new(beam, girder_nodes(beam, n_elements))
+    }
+
+    /// Simply supported beam with `n_elements` equal elements (the girder's own layout
+    /// when it is one span).
     pub fn simply_supported(beam: &BeamProperties, n_elements: usize) -> Self {
-        let nodes = (0..=n_elements)
-            .map(|i| beam.span_m * i as f64 / n_elements as f64)
-            .collect();
-        Self::new(beam, nodes, &[0.0, beam.span_m])
+        Self::on_girder(beam, n_elements)
+    }
+
+    /// Elements the mesh of [`Self::on_girder`] needs at least: one per piece between key
+    /// points (ends, supports, section edges).
+    pub fn min_elements(beam: &BeamProperties) -> usize {
+        key_points_m(beam).len() - 1
     }
 
     /// Equation numbers of the element's four DOFs.
@@ -115,9 +149,13 @@ impl HermiteMesh {
         global.trimmed()
     }
 
-    /// Global stiffness over the free DOFs, banded.
+    /// Global stiffness over the free DOFs, banded, support springs included.
     pub fn stiffness_band(&self) -> SymBand {
-        self.assemble(|e| element_stiffness(e.ei_n_m2, e.length_m))
+        let mut k = self.assemble(|e| element_stiffness(e.ei_n_m2, e.length_m));
+        for &(equation, stiffness) in &self.springs {
+            k.add(equation, equation, stiffness);
+        }
+        k
     }
 
     /// Global consistent mass over the free DOFs, banded.
@@ -135,7 +173,7 @@ impl HermiteMesh {
         self.consistent_mass_band().to_dense()
     }
 
-    /// The element containing `x_m` (clamped to the span) and the local coordinate.
+    /// The element containing `x_m` (clamped to the girder) and the local coordinate.
     pub fn locate(&self, x_m: f64) -> (usize, f64) {
         let last = self.elements.len() - 1;
         // partition_point: number of nodes <= x; the element starts at the node before.
@@ -181,6 +219,49 @@ impl HermiteMesh {
         let theta = self.dof.iter().filter_map(|d| d[1]).collect();
         (w, theta)
     }
+}
+
+/// Ends, supports and section edges, ascending and distinct.
+fn key_points_m(beam: &BeamProperties) -> Vec<f64> {
+    let length = beam.length_m();
+    let mut points: Vec<f64> = [0.0, length]
+        .into_iter()
+        .chain(beam.girder.support_positions_m())
+        .chain(beam.sections.iter().flat_map(|s| [s.start_m, s.end_m]))
+        .collect();
+    points.sort_by(f64::total_cmp);
+    points.dedup_by(|a, b| (*a - *b).abs() <= 1e-9 * length);
+    points
+}
+
+/// Node abscissae of [`HermiteMesh::on_girder`]: `n_elements` shared among the pieces by
+/// largest remainder of their length share, at least one each.
+fn girder_nodes(beam: &BeamProperties, n_elements: usize) -> Vec<f64> {
+    let keys = key_points_m(beam);
+    let length = beam.length_m();
+    let pieces = keys.len() - 1;
+    let total = n_elements.max(pieces);
+    let shares: Vec<f64> = keys
+        .windows(2)
+        .map(|w| (w[1] - w[0]) / length * total as f64)
+        .collect();
+    let mut counts: Vec<usize> = shares.iter().map(|s| (s.floor() as usize).max(1)).collect();
+    let mut order: Vec<usize> = (0..pieces).collect();
+    order.sort_by(|&a, &b| {
+        let rest = |i: usize| shares[i] - counts[i] as f64;
+        rest(b).total_cmp(&rest(a)).then(a.cmp(&b))
+    });
+    let missing = total.saturating_sub(counts.iter().sum());
+    for &i in order.iter().cycle().take(missing) {
+        counts[i] += 1;
+    }
+    let mut nodes = vec![keys[0]];
+    for (w, &n) in keys.windows(2).zip(&counts) {
+        let (start, piece) = (w[0], w[1] - w[0]);
+        nodes.extend((1..n).map(|i| start + piece * i as f64 / n as f64));
+        nodes.push(w[1]);
+    }
+    nodes
 }
 
 #[cfg(test)]

@@ -2,6 +2,7 @@
 //! finite elements, modal), modes, Rayleigh damping and point operators.
 
 mod beam;
+mod girder;
 mod hermite;
 mod lumped;
 mod mesh;
@@ -9,16 +10,20 @@ mod model;
 mod modes;
 mod sparse;
 
-pub use beam::{BeamProperties, StiffnessRegion};
+pub use beam::{BeamProperties, Section, StiffnessRegion, Varying};
+pub use girder::{Girder, Piece, PieceKind, Support, MAX_SPANS};
 pub use hermite::{element_consistent_mass, element_stiffness};
 pub use lumped::{
-    condensation_mesh, condense, flexibility_matrix, mass_positions_m, stiffness_by_flexibility,
-    unit_load_deflection_m_per_n,
+    condensation_mesh, condense, flexibility_matrix, force_method_applies, mass_dofs, mass_layout,
+    mass_positions_m, stiffness_by_flexibility, unit_load_deflection_m_per_n, ForceMethod,
+    MassLayout,
 };
 pub use mesh::{HermiteMesh, PointQuantity};
 pub use model::{BridgeModel, LumpedStiffness, ModelSpec, MAX_ELEMENTS, REPORTED_MODES};
 pub use modes::{generalized_modes, Modes, Rayleigh, Wanted, DENSE_EIGEN_MAX_DOF};
 pub use sparse::SparseVec;
 
+#[cfg(test)]
+mod girder_tests;
 #[cfg(test)]
 mod tests;

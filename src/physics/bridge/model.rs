@@ -7,7 +7,10 @@ use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 use super::beam::BeamProperties;
-use super::lumped::{condensation_mesh, condense, stiffness_by_flexibility};
+use super::lumped::{
+    condensation_mesh, condense, force_method_applies, mass_dofs, mass_layout,
+    stiffness_by_flexibility,
+};
 use super::mesh::{HermiteMesh, PointQuantity};
 use super::modes::{EigenRoute, Modes, Rayleigh, Wanted};
 use super::sparse::SparseVec;
@@ -216,7 +219,7 @@ impl BridgeModel {
         let built = match spec {
             ModelSpec::LumpedMass { nodes, stiffness } => lumped(beam, *nodes, *stiffness)?,
             ModelSpec::FiniteElement { elements } => {
-                let mesh = HermiteMesh::simply_supported(beam, *elements);
+                let mesh = HermiteMesh::on_girder(beam, *elements);
                 Built {
                     mass: SymMatrix::Band(mesh.consistent_mass_band()),
                     stiffness: SymMatrix::Band(mesh.stiffness_band()),
@@ -299,24 +302,24 @@ impl BridgeModel {
         (frequencies, ratios)
     }
 
-    /// Span (m).
-    pub fn span_m(&self) -> f64 {
-        self.beam.span_m
+    /// Length of the girder, overhangs included (m).
+    pub fn length_m(&self) -> f64 {
+        self.beam.length_m()
     }
 
-    /// True when `x_m` lies on the bridge.
-    pub fn on_span(&self, x_m: f64) -> bool {
-        (0.0..=self.beam.span_m).contains(&x_m)
+    /// True when `x_m` lies on the girder.
+    pub fn on_girder(&self, x_m: f64) -> bool {
+        (0.0..=self.beam.length_m()).contains(&x_m)
     }
 
-    /// Weights of `quantity` at `x_m` over the model DOFs; empty off the span.
+    /// Weights of `quantity` at `x_m` over the model DOFs; empty off the girder.
     ///
     /// For `Deflection` this is both the read-back `w(x) = h . u` and the consistent load
     /// vector `h P` of a force P at x (the two are transposes of each other, which keeps
     /// the coupled system's work balance exact).
     pub fn point_operator(&self, x_m: f64, quantity: PointQuantity, out: &mut SparseVec) {
         out.clear();
-        if !self.on_span(x_m) {
+        if !self.on_girder(x_m) {
             return;
         }
         match &self.reduction {
@@ -380,7 +383,8 @@ impl BridgeModel {
         load
     }
 
-    /// Positions where `/truth/bridge` reports the deflected shape (mesh nodes, supports included).
+    /// Positions where `/truth/bridge` reports the deflected shape (mesh nodes, supports
+    /// included).
     pub fn shape_positions_m(&self) -> &[f64] {
         &self.mesh.node_x_m
     }
@@ -397,36 +401,36 @@ struct Built {
 }
 
 fn lumped(beam: &BeamProperties, nodes: usize, route: LumpedStiffness) -> Result<Built> {
-    let mesh = condensation_mesh(beam, nodes);
-    let condensation = condense(&mesh)?;
+    let layout = mass_layout(beam, nodes)?;
+    let mesh = condensation_mesh(beam, &layout.positions_m);
+    let model_dofs = mass_dofs(&mesh, &layout.positions_m);
+    let condensation = condense(&mesh, &model_dofs)?;
     let use_flexibility = match route {
-        LumpedStiffness::Auto => beam.is_uniform(),
+        LumpedStiffness::Auto => force_method_applies(beam),
         LumpedStiffness::Flexibility => true,
         LumpedStiffness::Condensation => false,
     };
     let stiffness = if use_flexibility {
-        stiffness_by_flexibility(beam, nodes)?
+        stiffness_by_flexibility(beam, &layout.positions_m)?
     } else {
         condensation.stiffness
     };
-    let node_mass_kg = beam.mass_per_length_kg_m * beam.span_m / (nodes + 1) as f64;
     // The modes come from the condensation mesh with the masses on its translations:
-    // its rotations are massless, so its finite eigenpairs are those of the condensed
-    // stiffness (the same K as the flexibility route up to round-off), while its band
-    // keeps the eigen-solution O(n).
-    let (w_dofs, _) = mesh.split_dofs();
+    // its other equations are massless, so its finite eigenpairs are those of the
+    // condensed stiffness (the same K as the flexibility route up to round-off), while its
+    // band keeps the eigen-solution O(n).
     let mut mesh_mass = SymBand::zeros(mesh.n_dof, 0);
-    for &dof in &w_dofs {
-        mesh_mass.add(dof, dof, node_mass_kg);
+    for (&dof, &m) in model_dofs.iter().zip(&layout.masses_kg) {
+        mesh_mass.add(dof, dof, m);
     }
     Ok(Built {
         eigen_route: EigenRoute::CondensationMesh {
             stiffness: mesh.stiffness_band(),
             mass: mesh_mass,
-            model_dofs: w_dofs,
+            model_dofs,
         },
         mesh,
-        mass: SymMatrix::Diagonal(DVector::from_element(nodes, node_mass_kg)),
+        mass: SymMatrix::Diagonal(DVector::from_vec(layout.masses_kg)),
         stiffness: SymMatrix::Dense(stiffness),
         reduction: Reduction::Dense(condensation.transform),
         diagonal_mass: true,
@@ -435,7 +439,7 @@ fn lumped(beam: &BeamProperties, nodes: usize, route: LumpedStiffness) -> Result
 
 fn modal(beam: &BeamProperties, modes: usize, elements: Option<usize>) -> Result<Built> {
     let elements = elements.unwrap_or((4 * modes).max(40));
-    let mesh = HermiteMesh::simply_supported(beam, elements);
+    let mesh = HermiteMesh::on_girder(beam, elements);
     let (k_fe, m_fe) = (
         SymMatrix::Band(mesh.stiffness_band()),
         SymMatrix::Band(mesh.consistent_mass_band()),

@@ -51,7 +51,7 @@ fn lumped_point_operator_equals_k_times_flexibility_column() {
         0.0,
     )
     .unwrap();
-    let xs = mass_positions_m(beam.span_m, n);
+    let xs = mass_positions_m(beam.length_m(), n);
     let mut op = SparseVec::default();
     for x in [0.7, 4.1, 15.0, 22.22, 29.9] {
         model.point_operator(x, PointQuantity::Deflection, &mut op);
@@ -144,7 +144,7 @@ fn moment_read_back_matches_statics() {
     let u = static_solve(&model, &op.to_dense(model.n_dof()).scale(p_n));
     for x in [2.0, 10.0, 15.0, 24.0] {
         let m = model.read(x, PointQuantity::Moment, &u);
-        let l = beam.span_m;
+        let l = beam.length_m();
         let exact = if x <= a {
             -p_n * x * (l - a) / l
         } else {
@@ -179,7 +179,7 @@ fn modal_model_reproduces_fe_frequencies_and_static_midspan() {
     modal.point_operator(15.0, PointQuantity::Deflection, &mut op);
     let u = static_solve(&modal, &op.to_dense(20).scale(-1.0));
     let w = modal.read(15.0, PointQuantity::Deflection, &u);
-    let exact = -beam.span_m.powi(3) / (48.0 * beam.flexural_rigidity_n_m2);
+    let exact = -beam.length_m().powi(3) / (48.0 * beam.flexural_rigidity_n_m2);
     assert!((w - exact).abs() < 2e-4 * exact.abs(), "{w} vs {exact}");
 }
 
@@ -199,12 +199,12 @@ fn bad_inputs_name_field_and_value() {
     let cases: Vec<(BeamProperties, ModelSpec, f64, &str)> = vec![
         (
             BeamProperties {
-                span_m: 0.0,
+                girder: Girder::simply_supported(0.0),
                 ..paper()
             },
             ModelSpec::FiniteElement { elements: 10 },
             0.02,
-            "bridge.span_m",
+            "bridge.spans_m.0",
         ),
         (
             BeamProperties {

@@ -134,11 +134,11 @@ impl AmbientField {
         rng: ChaCha8Rng,
         field_prefix: &str,
     ) -> Result<Self> {
-        spec.validate(field_prefix, model.span_m(), dt_s)?;
+        spec.validate(field_prefix, model.length_m(), dt_s)?;
         let band = BandPass::new(spec.band_hz, dt_s, &format!("{field_prefix}.band_hz"))?;
         let (points, mut loads) = unit_loads(model);
         let response = ResponseModel::new(model, &loads, &band)?;
-        let reference_m = spec.reference_m(model.span_m());
+        let reference_m = spec.reference_m(model.length_m());
         let unit_rms = reference_unit_rms(&response, model, reference_m, field_prefix)?;
         let force_rms_n_per_m = spec.target_rms_m_s2 / unit_rms;
         // Fold the level and the filter's own RMS into the load vectors: fill() then adds
@@ -214,11 +214,11 @@ impl AmbientField {
                 ),
             ));
         }
-        if !model.on_span(x_m) {
+        if !model.on_girder(x_m) {
             return Err(Error::invalid(
                 "x_m",
                 num(x_m),
-                format!("must lie on the span [0, {}] m", num(model.span_m())),
+                format!("must lie on the span [0, {}] m", num(model.length_m())),
             ));
         }
         let variance = self.response.acceleration_variance_at(model, x_m);

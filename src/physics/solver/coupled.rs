@@ -302,7 +302,7 @@ impl<'a> CoupledSolver<'a> {
         let next = self.step + 1;
         let coefficients = self.bridge.coefficients;
         let dt = coefficients.dt_s;
-        let span = self.model.span_m();
+        let span = self.model.length_m();
         for v in &mut self.vehicles {
             if !v.active && !v.retired && v.entry_step <= next {
                 // The equilibrium is that of the state being advanced: positions at `step`.
@@ -351,7 +351,7 @@ impl<'a> CoupledSolver<'a> {
                 c.vehicle = vi;
                 c.axle = j;
                 c.x_m = v.axle_x_m(j, next, dt);
-                c.on_span = self.model.on_span(c.x_m);
+                c.on_span = self.model.on_girder(c.x_m);
                 self.model
                     .point_operator(c.x_m, PointQuantity::Deflection, &mut c.h);
                 self.model

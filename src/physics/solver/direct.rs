@@ -121,7 +121,7 @@ impl<'a> DirectSolver<'a> {
     pub fn advance(&mut self) -> Result<()> {
         let next = self.step + 1;
         let dt = self.coefficients.dt_s;
-        let span = self.model.span_m();
+        let span = self.model.length_m();
         for (i, v) in self.vehicles.iter_mut().enumerate() {
             if !self.active[i] && !self.retired[i] && v.entry_step <= next {
                 // Static equilibrium on the road under the axles at the current step (the
@@ -203,7 +203,7 @@ impl<'a> DirectSolver<'a> {
             self.xdd.rows_mut(o, nv).copy_from(&v.state.a);
             for (j, axle) in v.dynamics.axles.iter().enumerate() {
                 let x_m = v.axle_x_m(j, next, dt);
-                let on_span = model.on_span(x_m);
+                let on_span = model.on_girder(x_m);
                 model.point_operator(x_m, PointQuantity::Deflection, &mut self.h);
                 model.point_operator(x_m, PointQuantity::Slope, &mut self.h_slope);
                 let Some(dof) = axle.dof else {

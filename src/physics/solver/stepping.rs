@@ -58,7 +58,7 @@ pub fn check_state(solver: &CoupledSolver, deflection_ops: &[SparseVec], hint: &
         let worst = deflection_ops
             .iter()
             .fold(0.0f64, |a, op| a.max(op.dot(u).abs()));
-        if worst > RUNAWAY_SPAN_FRACTION * solver.model.span_m() {
+        if worst > RUNAWAY_SPAN_FRACTION * solver.model.length_m() {
             return Err(diverged("bridge deflection (m)", worst));
         }
     }
@@ -157,8 +157,8 @@ mod tests {
         for _ in 0..RUNAWAY_CHECK_STRIDE {
             stepper.advance(&mut s).unwrap();
         }
-        let phi_mid = (2.0f64 / (model.beam.mass_per_length_kg_m * model.span_m())).sqrt();
-        s.bridge.state.u[0] = 0.2 * model.span_m() / phi_mid;
+        let phi_mid = (2.0f64 / (model.beam.mass_per_length_kg_m * model.length_m())).sqrt();
+        s.bridge.state.u[0] = 0.2 * model.length_m() / phi_mid;
         s.bridge.state.v.fill(0.0);
         s.bridge.state.a.fill(0.0);
         let mut stopped = None;

@@ -97,10 +97,20 @@ fn adapt(schema: &mut Value) {
             if format.is_some_and(|f| NUMERIC_FORMATS.contains(&f)) {
                 map.remove("format");
             }
+            // An enum's table variant (`{ elastic = { .. } }`) is an object with one
+            // property whose text schemars puts on the object: the editor shows it at
+            // the property.
+            let variant_text = map.get("description").cloned();
             if let Some(Value::Object(properties)) = map.get_mut("properties") {
+                let lone = properties.len() == 1;
                 for (key, property) in properties.iter_mut() {
                     if let (Some(unit), Value::Object(p)) = (unit_of(key), &mut *property) {
                         with_unit(p, unit);
+                    }
+                    if let (true, Some(text), Value::Object(p)) =
+                        (lone, &variant_text, &mut *property)
+                    {
+                        p.entry("description").or_insert_with(|| text.clone());
                     }
                 }
             }

@@ -5,6 +5,7 @@
 /// Name endings and their units, the longer ending first where one ends another
 /// (`_n_s_m` before `_s_m`... before `_m`).
 const SUFFIXES: &[(&str, &str)] = &[
+    ("_n_m_rad", "N m/rad"),
     ("_n_s_m", "N s/m"),
     ("_kg_m2", "kg m^2"),
     ("_n_m2", "N m^2"),
@@ -54,6 +55,7 @@ mod tests {
             ("mass_per_length_kg_m", Some("kg/m")),
             ("suspension_damping_n_s_m", Some("N s/m")),
             ("tyre_stiffness_n_m", Some("N/m")),
+            ("rotational_n_m_rad", Some("N m/rad")),
             ("n1_cycles_m", Some("cycle/m")),
             ("gd_n0_m3", Some("m^3")),
             ("slope_above_knee_per_c", Some("1/degC")),

@@ -13,6 +13,8 @@
 //!
 //! - [`beam`]: the simply supported Euler-Bernoulli beam (frequencies, modes, statics) and
 //!   modal damping laws.
+//! - [`continuous_beam`]: exact modes of a uniform beam over several spans and overhangs
+//!   on any supports (the frequency determinant), and the modal series of a moving force.
 //! - [`moving_force`]: Fryba's closed-form modal solution for constant forces crossing
 //!   the beam (one force or an axle train).
 //! - [`sprung_mass`]: a sprung mass crossing the beam, coupled through its suspension,
@@ -29,6 +31,7 @@
 //!   Newmark average-acceleration period elongation.
 
 pub mod beam;
+pub mod continuous_beam;
 pub mod crossing;
 pub mod dopri45;
 pub mod frf;
@@ -41,6 +44,7 @@ pub mod stepped_beam;
 pub mod vehicle_crossing;
 
 pub use beam::{ModalDamping, SimplySupportedBeam};
+pub use continuous_beam::{Condition, ContinuousBeam, ExactMode};
 pub use crossing::{midspan_truncation_bound_m, ContactTail, CrossingDefaults, CrossingOptions};
 pub use dopri45::{Dopri45, Dopri45Options, Dopri45Stats};
 pub use frf::{harmonic_response, HarmonicResponse};

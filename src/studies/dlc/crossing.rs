@@ -59,7 +59,7 @@ pub fn simulate_crossing(
         start_m,
         0,
     ));
-    let span = model.span_m();
+    let span = model.length_m();
     let travel_m = span + vehicle.wheelbase_m() - start_m + speed_m_s * free_time_s;
     let steps = (travel_m / (speed_m_s * setup.dt_s)).ceil() as u64;
     let mut mid = SparseVec::with_capacity(model.n_dof());
@@ -71,7 +71,7 @@ pub fn simulate_crossing(
         stepper.advance(&mut solver)?;
         let v = &solver.vehicles[0];
         for (j, moments) in force.iter_mut().enumerate().take(axles) {
-            if model.on_span(v.axle_x_m(j, solver.step, setup.dt_s)) {
+            if model.on_girder(v.axle_x_m(j, solver.step, setup.dt_s)) {
                 moments.push(v.contact_force_n[j] / v.dynamics.axles[j].static_load_n);
             }
         }

@@ -125,7 +125,7 @@ impl DlcSetup {
     pub fn road(&self, surface: Surface, realisation: usize) -> Result<RoadProfile> {
         let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
         rng.set_stream((surface.stream() << 32) | realisation as u64);
-        let end_m = self.beam.span_m + ROAD_PAST_BRIDGE_M;
+        let end_m = self.beam.length_m() + ROAD_PAST_BRIDGE_M;
         let start_m = -self.approach_m - 10.0;
         RoadProfile::build(&surface.spec(), start_m, end_m, &mut rng)
     }

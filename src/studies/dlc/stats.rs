@@ -94,7 +94,7 @@ pub fn run_case(
 /// Largest static midspan deflection (m, down) as the axles' static loads roll across a
 /// uniform beam: the closed-form influence line (docs/physics.md section 2), scanned at 1 cm.
 pub fn static_peak_midspan_m(beam: &BeamProperties, vehicle: &VehicleDynamics) -> f64 {
-    let l = beam.span_m;
+    let l = beam.length_m();
     let positions = ((l + vehicle.wheelbase_m()) / 0.01).ceil() as usize;
     (0..=positions)
         .map(|i| {

@@ -112,7 +112,7 @@ pub fn run_crossing(model: &BridgeModel, input: &CrossingInput) -> Result<Histor
 fn midspan_operators(model: &BridgeModel) -> [SparseVec; 2] {
     [PointQuantity::Deflection, PointQuantity::Moment].map(|quantity| {
         let mut op = SparseVec::with_capacity(model.n_dof());
-        model.point_operator(0.5 * model.span_m(), quantity, &mut op);
+        model.point_operator(0.5 * model.length_m(), quantity, &mut op);
         op
     })
 }
@@ -129,6 +129,6 @@ fn record(solver: &CoupledSolver, [mid, moment]: &[SparseVec; 2], history: &mut 
     for (k, axle) in [0, last].into_iter().enumerate() {
         history.force_n[k].push(v.contact_force_n[axle]);
         let x = v.axle_x_m(axle, solver.step, dt);
-        history.on_span[k].push(solver.model.on_span(x));
+        history.on_span[k].push(solver.model.on_girder(x));
     }
 }

@@ -145,7 +145,7 @@ impl PathsCase {
     /// Simulated time: until the rear axle is `free_time_s` past the bridge, rounded up to
     /// a whole number of path steps (so every finer grid lands on the same instants).
     pub fn duration_s(&self, vehicle: &VehicleDynamics) -> f64 {
-        let travel_m = self.approach_m + self.beam.span_m + vehicle.wheelbase_m();
+        let travel_m = self.approach_m + self.beam.length_m() + vehicle.wheelbase_m();
         let t = travel_m / self.speed_m_s + self.free_time_s;
         (t / self.dt_s).ceil() * self.dt_s
     }

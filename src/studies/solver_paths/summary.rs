@@ -18,7 +18,7 @@ pub fn markdown(r: &SolverPathsReport) -> String {
          after the rear axle leaves; smooth road and ISO 8608 class A (realisation 0 of the \
          DLC study's stream, seed {}); bilateral contact (`solver.contact = \"full\"`), \
          `CoupledSolver` (bridge factorized once, low-rank contact coupling), dt = {} ms.\n",
-        r.case.beam.span_m,
+        r.case.beam.length_m(),
         r.case.beam.flexural_rigidity_n_m2,
         r.case.beam.mass_per_length_kg_m,
         100.0 * r.case.damping_ratio,
@@ -234,7 +234,7 @@ fn smallest_force_adequate_modes(r: &SolverPathsReport) -> Option<usize> {
 
 fn ratio_bridge_to_tyre_stiffness(r: &SolverPathsReport) -> f64 {
     let b = &r.case.beam;
-    let bridge = 48.0 * b.flexural_rigidity_n_m2 / b.span_m.powi(3);
+    let bridge = 48.0 * b.flexural_rigidity_n_m2 / b.length_m().powi(3);
     let tyre = DlcSetup::truck()
         .ok()
         .and_then(|t| t.axles.first().map(|a| a.tyre_stiffness_n_m))
@@ -273,7 +273,7 @@ fn moments(md: &mut String, r: &SolverPathsReport) {
 /// can land on a bridge frequency.
 fn element_passing(md: &mut String, r: &SolverPathsReport) {
     let b = &r.case.beam;
-    let f1_hz = std::f64::consts::PI / (2.0 * b.span_m * b.span_m)
+    let f1_hz = std::f64::consts::PI / (2.0 * b.length_m() * b.length_m())
         * (b.flexural_rigidity_n_m2 / b.mass_per_length_kg_m).sqrt();
     let mut notes = Vec::new();
     for (surface, _) in &r.references {
@@ -288,7 +288,7 @@ fn element_passing(md: &mut String, r: &SolverPathsReport) {
                 let (a, c) = (w[0].spatial.acceleration_rms, w[1].spatial.acceleration_rms);
                 if c > a {
                     let spacings = w[1].size + usize::from(path == SolverPath::LumpedLowRank);
-                    let passing_hz = r.case.speed_m_s * spacings as f64 / b.span_m;
+                    let passing_hz = r.case.speed_m_s * spacings as f64 / b.length_m();
                     let k = (passing_hz / f1_hz).sqrt().round().max(1.0);
                     notes.push(format!(
                         "{} {} on road {surface}: v/h = {passing_hz:.1} Hz next to f{k} = \

@@ -29,7 +29,7 @@ fn fe(elements: usize) -> ModelSpec {
 
 fn analytic_beam(beam: &BeamProperties) -> Result<SimplySupportedBeam> {
     SimplySupportedBeam::new(
-        beam.span_m,
+        beam.length_m(),
         beam.flexural_rigidity_n_m2,
         beam.mass_per_length_kg_m,
     )
@@ -102,14 +102,14 @@ pub fn lumped_frequency_error(n: usize, nodes: usize) -> f64 {
 pub fn static_deflection() -> Result<Vec<CheckRow>> {
     let beam = BeamProperties::paper_default();
     let p_n = 100_000.0;
-    let exact = p_n * beam.span_m.powi(3) / (48.0 * beam.flexural_rigidity_n_m2);
+    let exact = p_n * beam.length_m().powi(3) / (48.0 * beam.flexural_rigidity_n_m2);
     let mut rows = Vec::new();
     // Odd mass counts and even element counts put a node at midspan, where the
     // discretizations are nodally exact.
     for spec in [lumped(9), lumped(101), fe(4), fe(100)] {
         let model = BridgeModel::build(&beam, &spec, 0.0)?;
         let mut op = SparseVec::default();
-        let mid = beam.span_m / 2.0;
+        let mid = beam.length_m() / 2.0;
         model.point_operator(mid, PointQuantity::Deflection, &mut op);
         let load = op.to_dense(model.n_dof()) * -p_n;
         let u = model
@@ -223,7 +223,7 @@ pub fn moving_force() -> Result<Vec<CheckRow>> {
                     }
                 };
                 let reference = MovingForceSolution::new(ab, force_n, speed, damping, 100)?;
-                let mid = beam.span_m / 2.0;
+                let mid = beam.length_m() / 2.0;
                 let exact: Vec<f64> = times
                     .iter()
                     .map(|&t| reference.deflection_m(mid, t))
@@ -270,7 +270,7 @@ pub fn moving_force() -> Result<Vec<CheckRow>> {
 pub fn daf_table() -> Result<Vec<CheckRow>> {
     let beam = BeamProperties::paper_default();
     let f1 = beam.closed_form_frequency_hz(1);
-    let static_m = beam.span_m.powi(3) / (48.0 * beam.flexural_rigidity_n_m2);
+    let static_m = beam.length_m().powi(3) / (48.0 * beam.flexural_rigidity_n_m2);
     let mut rows = Vec::new();
     for (alpha, table) in [
         (0.05, 1.048),
@@ -279,8 +279,8 @@ pub fn daf_table() -> Result<Vec<CheckRow>> {
         (0.30, 1.411),
         (0.50, 1.705),
     ] {
-        let speed = alpha * 2.0 * f1 * beam.span_m;
-        let passage_s = beam.span_m / speed;
+        let speed = alpha * 2.0 * f1 * beam.length_m();
+        let passage_s = beam.length_m() / speed;
         let case = MovingForceCase {
             beam: beam.clone(),
             spec: fe(20),
@@ -321,7 +321,7 @@ pub fn manufactured_solution() -> Result<Vec<CheckRow>> {
             duration_s: 2.0,
             mode: SolveMode::Prefactored(Storage::Dense),
         };
-        let points = [0.3 * beam.span_m, 0.5 * beam.span_m];
+        let points = [0.3 * beam.length_m(), 0.5 * beam.length_m()];
         let result = manufactured_history(&case, &points)?;
         for (label, err) in ["0.3 L", "0.5 L"].iter().zip(&result.relative_error) {
             // The response is dominated by the 2 Hz mode-1 component; Newmark's truncation

@@ -43,9 +43,9 @@ pub fn moving_force_history(case: &MovingForceCase) -> Result<(Vec<f64>, Vec<f64
     )?;
     let force = VehicleDynamics::moving_forces(&[case.force_n], &[0.0]);
     solver.add_vehicle(CoupledVehicle::new(0, force, case.speed_m_s, 0.0, 0));
-    let duration_s = case.beam.span_m / case.speed_m_s + case.free_time_s;
+    let duration_s = case.beam.length_m() / case.speed_m_s + case.free_time_s;
     let steps = (duration_s / case.dt_s).round() as u64;
-    let mid = case.beam.span_m / 2.0;
+    let mid = case.beam.length_m() / 2.0;
     let mut op = SparseVec::with_capacity(model.n_dof());
     let mut times = vec![0.0];
     let mut deflection = vec![0.0];
@@ -99,7 +99,7 @@ pub fn manufactured_exact_m(beam: &BeamProperties, x_m: f64, t_s: f64) -> f64 {
         .iter()
         .map(|&(k, amp, f_hz, kind)| {
             let (g, _, _) = time_function(kind, 2.0 * PI * f_hz, t_s);
-            amp * (k as f64 * PI * x_m / beam.span_m).sin() * g
+            amp * (k as f64 * PI * x_m / beam.length_m()).sin() * g
         })
         .sum()
 }
@@ -128,7 +128,7 @@ pub fn manufactured_history(
         coefficients,
         case.mode,
     )?;
-    let l = beam.span_m;
+    let l = beam.length_m();
     // Load shapes: the consistent load of sin(k pi x / L).
     let shapes: Vec<DVector<f64>> = COMPONENTS
         .iter()

@@ -396,7 +396,7 @@ pub(super) fn physics_cases() -> Vec<Case> {
                 "bridge.stiffness_regions",
                 "[{ start_m = -5.0, end_m = 5.0, ei_factor = 0.5 }]",
             )],
-            &["bridge.stiffness_regions.0.start_m = -5 must lie on the span [0, 30] m"],
+            &["bridge.stiffness_regions.0.start_m = -5 must lie on the girder [0, 30] m"],
         ),
         Case::edit(
             "stiffness region with EI factor zero",

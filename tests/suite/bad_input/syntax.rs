@@ -94,7 +94,7 @@ pub(super) fn syntax_cases() -> Vec<Case> {
         Case::edit(
             "missing field: bridge.span_m",
             &[Remove("bridge.span_m")],
-            &["scenario.toml: bridge: missing field `span_m`", "[bridge]"],
+            &["bridge = (no span) needs span_m (one span) or spans_m"],
         ),
         Case::edit(
             "missing table: [bridge]",

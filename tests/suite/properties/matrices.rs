@@ -103,12 +103,7 @@ fn all_omega_rad_s(model: &BridgeModel) -> Result<Vec<f64>, TestCaseError> {
 }
 
 fn uniform_beam(span: f64, mass: f64, f1: f64) -> BeamProperties {
-    BeamProperties {
-        span_m: span,
-        flexural_rigidity_n_m2: ei_for(span, mass, f1),
-        mass_per_length_kg_m: mass,
-        stiffness_regions: Vec::new(),
-    }
+    BeamProperties::simply_supported(span, ei_for(span, mass, f1), mass)
 }
 
 fn lumped_route() -> impl Strategy<Value = LumpedStiffness> {

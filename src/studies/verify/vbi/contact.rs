@@ -53,7 +53,7 @@ fn bump_run(law: ContactLaw) -> Result<ContactRun> {
     let mut solver = coupled(&model, &road, dt_s, law)?;
     let truck = half_car("two_axle_truck", None)?;
     solver.add_vehicle(CoupledVehicle::new(0, truck, speed, -10.0, 0));
-    let steps = ((10.0 + beam.span_m + 15.0) / (speed * dt_s)).round() as u64;
+    let steps = ((10.0 + beam.length_m() + 15.0) / (speed * dt_s)).round() as u64;
     let mut run = ContactRun {
         min_force_ratio: f64::INFINITY,
         max_law_airborne: f64::NEG_INFINITY,
@@ -65,7 +65,7 @@ fn bump_run(law: ContactLaw) -> Result<ContactRun> {
     for step in 1..=steps {
         stepper.advance(&mut solver)?;
         run.midspan_m.push(solver.bridge_response(
-            0.5 * beam.span_m,
+            0.5 * beam.length_m(),
             PointQuantity::Deflection,
             0,
             &mut op,

@@ -40,8 +40,8 @@ pub fn suspension_limits() -> Result<Vec<CheckRow>> {
     })?;
     let force_peak = peak(&force_history);
     let fryba = MovingForceSolution::new(ab, weight_n, SPRUNG_SPEED_M_S, ModalDamping::None, 100)?;
-    let exit_s = beam.span_m / SPRUNG_SPEED_M_S;
-    let (_, fryba_peak) = fryba.peak_deflection_m(0.5 * beam.span_m, exit_s);
+    let exit_s = beam.length_m() / SPRUNG_SPEED_M_S;
+    let (_, fryba_peak) = fryba.peak_deflection_m(0.5 * beam.length_m(), exit_s);
     let discretization = ((force_peak - fryba_peak) / fryba_peak).abs();
     // The limit itself: the same bound as the moving_force group (1e-3 on the peak).
     rows.push(CheckRow::relative(
@@ -105,7 +105,8 @@ pub fn suspension_limits() -> Result<Vec<CheckRow>> {
         ModalDamping::None,
         REFERENCE_MODES,
     )?;
-    let gap = ((mm_peak - fryba_25.peak_deflection_m(0.5 * beam.span_m, exit_s).1) / mm_peak).abs();
+    let gap =
+        ((mm_peak - fryba_25.peak_deflection_m(0.5 * beam.length_m(), exit_s).1) / mm_peak).abs();
     let mut previous = 10.0 * gap;
     for scale in [1e3, 1e4, 1e5] {
         let k = SPRUNG_STIFFNESS_N_M * scale;

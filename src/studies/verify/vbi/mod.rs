@@ -39,17 +39,12 @@ pub use truck::{truck_vs_moving_forces, TRUCK_COUPLED_REFERENCE};
 /// The VBI-2D verification beam (docs/physics.md section 6): 25 m, E 3.5e10 Pa, I 1.3901 m^4,
 /// m 18 358 kg/m (f1 = 4.09 Hz).
 fn vbi_beam() -> BeamProperties {
-    BeamProperties {
-        span_m: 25.0,
-        flexural_rigidity_n_m2: 3.5e10 * 1.3901,
-        mass_per_length_kg_m: 18_358.0,
-        stiffness_regions: Vec::new(),
-    }
+    BeamProperties::simply_supported(25.0, 3.5e10 * 1.3901, 18_358.0)
 }
 
 fn analytic_beam(beam: &BeamProperties) -> Result<SimplySupportedBeam> {
     SimplySupportedBeam::new(
-        beam.span_m,
+        beam.length_m(),
         beam.flexural_rigidity_n_m2,
         beam.mass_per_length_kg_m,
     )

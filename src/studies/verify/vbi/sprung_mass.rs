@@ -34,7 +34,7 @@ pub(super) fn sprung_mass_history(
 ) -> Result<Vec<f64>> {
     let mut solver = coupled(model, road, dt_s, ContactLaw::Full)?;
     solver.add_vehicle(CoupledVehicle::new(0, vehicle, speed_m_s, 0.0, 0));
-    let span = model.span_m();
+    let span = model.length_m();
     let steps = (span / (speed_m_s * dt_s)).round() as u64;
     let mut op = SparseVec::with_capacity(model.n_dof());
     let mut history = vec![0.0];
@@ -85,7 +85,7 @@ pub fn sprung_mass_crossing() -> Result<Vec<CheckRow>> {
         height_m: RAMP_HEIGHT_M,
     };
     let ramp_road = deterministic_road(&ramp_spec, -10.0, 60.0)?;
-    let exit_s = beam.span_m / SPRUNG_SPEED_M_S;
+    let exit_s = beam.length_m() / SPRUNG_SPEED_M_S;
     let steps = (exit_s / dt_s).round() as usize;
     let times: Vec<f64> = (0..=steps).map(|i| i as f64 * dt_s).collect();
     let mut rows = Vec::new();

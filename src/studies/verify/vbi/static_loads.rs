@@ -77,9 +77,9 @@ fn crawl_rows(group: &str) -> Result<Vec<CheckRow>> {
     let train_m = first_front_m - (front_m + gap_m);
     let first_front = |step: u64| first_front_m + speed * step as f64 * dt_s;
     let on_from = train_m + 2.0 * speed;
-    let on_to = beam.span_m - 0.5;
+    let on_to = beam.length_m() - 0.5;
     let steps = ((on_to - first_front_m) / (speed * dt_s)).round() as u64;
-    let mid = 0.5 * beam.span_m;
+    let mid = 0.5 * beam.length_m();
     let mut op = SparseVec::with_capacity(model.n_dof());
     let (mut sum_force, mut sum_w, mut sum_w_static, mut count) = (0.0, 0.0, 0.0, 0usize);
     let mut max_dev = 0.0f64;
@@ -119,7 +119,7 @@ fn crawl_rows(group: &str) -> Result<Vec<CheckRow>> {
     // exact: Hermite elements with consistent point loads are nodally exact (midspan is a
     // node), and the tyre forces sum to the weight in equilibrium.
     let omega1 = model.omega_rad_s[0];
-    let vibration = PI * speed / beam.span_m / omega1;
+    let vibration = PI * speed / beam.length_m() / omega1;
     let delta_m = ab.static_midspan_deflection_m(weight_n);
     let acceleration_g = vibration * omega1 * omega1 * delta_m / GRAVITY_M_S2;
     let averaging = 2.0 / (omega1 * window_s);

@@ -73,13 +73,13 @@ pub fn truck_vs_moving_forces() -> Result<Vec<CheckRow>> {
             height_m: BUMP_HEIGHT_M,
         },
         -APPROACH_M - 10.0,
-        2.0 * beam.span_m + 10.0,
+        2.0 * beam.length_m() + 10.0,
     )?;
     let models = [
         BridgeModel::build(&beam, &fe(20), 0.02)?,
         BridgeModel::build(&beam, &lumped(29), 0.02)?,
     ];
-    let mid = 0.5 * beam.span_m;
+    let mid = 0.5 * beam.length_m();
     let mut rows = Vec::new();
     // The models' peaks on the level road serve both comparisons.
     let mut level_peaks = Vec::new();
@@ -179,7 +179,7 @@ fn truck_peak(
     truck: &VehicleDynamics,
     speed_m_s: f64,
 ) -> Result<f64> {
-    let span = model.span_m();
+    let span = model.length_m();
     let mut solver = coupled(model, road, DT_S, ContactLaw::Full)?;
     solver.add_vehicle(CoupledVehicle::new(
         0,
