@@ -70,6 +70,8 @@ fn sensor_color(kind: SensorKind) -> Color {
 pub(super) struct SceneGeometry {
     pub info: SceneInfo,
     span_m: f64,
+    /// Abscissae of the supports (the two ends of a simple span).
+    support_position_m: Vec<f64>,
     deck_width_m: f64,
     node_position_m: Vec<f64>,
     /// (id, kind, position along the bridge) of every sensor.
@@ -85,6 +87,10 @@ impl SceneGeometry {
         Some(SceneGeometry {
             info,
             span_m: manifest.bridge.length_m,
+            support_position_m: manifest.bridge.layout.as_ref().map_or_else(
+                || vec![0.0, manifest.bridge.length_m],
+                |g| g.support_position_m.clone(),
+            ),
             deck_width_m: f64::from(info.lanes.max(1)) * LANE_WIDTH_M,
             node_position_m: manifest.bridge.shape_position_m.clone(),
             sensors: manifest
@@ -201,9 +207,9 @@ impl SceneGeometry {
         entity
     }
 
-    /// A cone under each end of the deck.
+    /// A cone under each support (the two ends of a simple span).
     fn supports(&self, mut entity: SceneEntity) -> SceneEntity {
-        for x in [0.0, self.span_m] {
+        for &x in &self.support_position_m {
             entity.cylinders.push(CylinderPrimitive {
                 pose: Some(pose(point(x, 0.0, -0.5 * SUPPORT_HEIGHT_M), None)),
                 size: Some(vector(SUPPORT_HEIGHT_M, SUPPORT_HEIGHT_M, SUPPORT_HEIGHT_M)),

@@ -330,6 +330,16 @@ pub fn default_noise_density(kind: SensorKind) -> f64 {
     }
 }
 
+/// The fibre of a strain gauge, above or below the neutral axis.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum Fibre {
+    /// Below the neutral axis: sagging moments stretch it.
+    Bottom,
+    /// Above the neutral axis: hogging moments (over piers) stretch it.
+    Top,
+}
+
 /// One bridge sensor.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
@@ -350,10 +360,15 @@ pub struct SensorSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schemars(range(min = 0))]
     pub noise_density: Option<f64>,
-    /// Strain gauges: distance of the gauge below the neutral axis (m, > 0, default 0.8).
+    /// Strain gauges: distance of the gauge from the neutral axis (m, > 0, default 0.8),
+    /// below it unless `fibre = "top"`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schemars(transform = bounds::positive)]
     pub gauge_depth_m: Option<f64>,
+    /// Strain gauges: the fibre the gauge sits on, `bottom` (default: sagging stretches
+    /// it) or `top` (over a pier, where hogging stretches it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fibre: Option<Fibre>,
     /// Measurement-chain preset (`ideal`, `mems_lownoise`, `piezo_seismic`,
     /// `force_balance`, `mems_consumer`, `strain_foil`); with neither `preset` nor `chain`
     /// the channel adds white noise only (`noise_density`).

@@ -2,6 +2,7 @@
 
 use super::*;
 use crate::physics::bridge::ModelSpec;
+use crate::scenario::Fibre;
 
 fn error_of(edit: impl FnOnce(&mut Scenario)) -> String {
     let mut s = Scenario::default_scenario();
@@ -175,6 +176,57 @@ fn sensor_channels_are_checked_before_the_run() {
         msg.starts_with(
             "sensors.1[A2].noise_density = 1e308 gives a per-sample noise sigma of inf"
         ),
+        "{msg}"
+    );
+}
+
+#[test]
+fn a_top_fibre_gauge_reads_hogging_as_tension_and_fibre_is_for_gauges_only() {
+    let mut s = Scenario::default_scenario();
+    let strain = s
+        .sensors
+        .iter()
+        .position(|x| x.kind == SensorKind::Strain)
+        .unwrap();
+    s.sensors[strain].fibre = Some(Fibre::Top);
+    s.sensors[strain].gauge_depth_m = Some(0.5);
+    let resolved = s.resolve().unwrap();
+    // Signed depth: eps = M c / EI is then negative (compression) under sagging.
+    assert_eq!(resolved.sensors[strain].gauge_depth_m, -0.5);
+    let msg = error_of(|s| s.sensors[0].fibre = Some(Fibre::Top));
+    assert!(
+        msg.contains("sensors.0[A1].fibre = top applies to strain gauges only"),
+        "{msg}"
+    );
+}
+
+#[test]
+fn girders_name_their_spans_and_supports_in_errors() {
+    let msg = error_of(|s| {
+        s.bridge.span_m = None;
+        s.bridge.spans_m = Some(vec![20.0, 0.0]);
+    });
+    assert!(
+        msg.starts_with("bridge.spans_m.1 = 0 must be a finite number > 0"),
+        "{msg}"
+    );
+    let msg = error_of(|s| s.bridge.spans_m = Some(vec![20.0, 20.0]));
+    assert!(
+        msg.contains("bridge.span_m = 30 give either span_m"),
+        "{msg}"
+    );
+    let msg = error_of(|s| {
+        s.bridge.span_m = None;
+        s.bridge.spans_m = Some(vec![20.0, 20.0]);
+        s.bridge.supports = Some(vec![crate::physics::bridge::Support::Pinned; 2]);
+    });
+    assert!(
+        msg.contains("bridge.supports = 2 needs one support per span end: 3"),
+        "{msg}"
+    );
+    let msg = error_of(|s| s.bridge.overhang_right_m = 40.0);
+    assert!(
+        msg.contains("bridge.overhang_right_m = 40 must not be longer"),
         "{msg}"
     );
 }

@@ -9,12 +9,12 @@ use crate::measurement::daq::{ClockError, NodeClock};
 use crate::measurement::sensor::chain::{RealisedChain, ResolvedChain};
 use crate::measurement::sensor::ChannelDesign;
 use crate::measurement::wim::WimStation;
-use crate::physics::bridge::ModelSpec;
+use crate::physics::bridge::{Girder, ModelSpec};
 use crate::physics::solver::NewmarkCoefficients;
 use crate::physics::vehicle::VehicleDynamics;
 use crate::record::SceneInfo;
 
-use super::{Scenario, SensorSpec};
+use super::{Scenario, SensorKind, SensorSpec};
 
 /// `warnings`: fewest solver steps per period of the first bridge mode (Newmark's period
 /// error is about (2 pi / N)^2 / 12, 0.8 % at N = 20).
@@ -44,6 +44,8 @@ pub struct ResolvedVehicle {
 pub struct ResolvedSensor {
     pub spec: SensorSpec,
     pub noise_density: f64,
+    /// Distance of a strain gauge from the neutral axis (m): positive below it (bottom
+    /// fibre), negative above it (top fibre).
     pub gauge_depth_m: f64,
     /// Index into `scenario.daq_nodes` of the node whose clock samples this sensor.
     pub node: Option<usize>,
@@ -180,7 +182,7 @@ impl Resolved {
                     1.0 / (MIN_STEPS_PER_SENSOR_PERIOD * band_edge_hz),
                 ));
             }
-            if let Some(warning) = on_a_support(i, r, s.bridge.length_m()) {
+            if let Some(warning) = on_a_support(i, r, &s.bridge.girder()) {
                 out.push(warning);
             }
             if band_edge_hz < f1 {
@@ -245,18 +247,35 @@ fn sensor_path(i: usize, sensor: &ResolvedSensor) -> String {
 /// the acceleration and, on a simply supported span, the bending strain vanish there.
 const ON_SUPPORT_M: f64 = 1e-3;
 
-/// The warning for sensor `i` placed on a support of the simply supported span (at x = 0
-/// or x = span), where every mode shape sin(k pi x / L) and the bending moment are zero.
-fn on_a_support(i: usize, sensor: &ResolvedSensor, span_m: f64) -> Option<String> {
+/// The warning for sensor `i` placed on a rigid support, where the girder does not move
+/// (every mode shape is zero) and, at a pinned end, bends nothing either. A strain gauge
+/// over an interior or clamped support reads the hogging moment: no warning for it there.
+fn on_a_support(i: usize, sensor: &ResolvedSensor, girder: &Girder) -> Option<String> {
     let x = sensor.spec.position_m;
-    let support_m = if x < 0.5 * span_m { 0.0 } else { span_m };
-    ((x - support_m).abs() <= ON_SUPPORT_M).then(|| {
-        format!(
-            "{}.position_m = {}: on the support at x = {} m, where the bridge does not \
-             move and bends nothing: the channel will read zero and noise",
-            sensor_path(i, sensor),
-            num(x),
-            num(support_m),
-        )
-    })
+    let supports = girder.support_positions_m();
+    let last = supports.len() - 1;
+    let (k, support_m) = supports
+        .iter()
+        .copied()
+        .enumerate()
+        .filter(|(k, _)| girder.supports[*k].rigid_vertical())
+        .min_by(|a, b| (a.1 - x).abs().total_cmp(&(b.1 - x).abs()))?;
+    let free_end =
+        (k == 0 && girder.overhang_left_m == 0.0) || (k == last && girder.overhang_right_m == 0.0);
+    let bends = !free_end || girder.supports[k].rigid_rotation();
+    if (x - support_m).abs() > ON_SUPPORT_M || (bends && sensor.spec.kind == SensorKind::Strain) {
+        return None;
+    }
+    let reads = if bends {
+        "where the girder does not move: the channel will read zero and noise"
+    } else {
+        "where the bridge does not move and bends nothing: the channel will read zero and \
+         noise"
+    };
+    Some(format!(
+        "{}.position_m = {}: on the support at x = {} m, {reads}",
+        sensor_path(i, sensor),
+        num(x),
+        num(support_m),
+    ))
 }

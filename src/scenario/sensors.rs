@@ -77,6 +77,18 @@ impl Scenario {
                     "applies to strain gauges only",
                 ));
             }
+            if let (true, Some(fibre)) = (s.kind != SensorKind::Strain, s.fibre) {
+                return Err(Error::invalid(
+                    format!("{path}.fibre"),
+                    format!("{fibre:?}").to_lowercase(),
+                    "applies to strain gauges only",
+                ));
+            }
+            // Signed: negative above the neutral axis, so eps = M c / EI holds for both.
+            let gauge_depth_m = match s.fibre {
+                Some(super::Fibre::Top) => -gauge_depth_m,
+                _ => gauge_depth_m,
+            };
             let sigma = noise_density * (0.5 * s.rate_hz).sqrt();
             if !sigma.is_finite() {
                 return Err(Error::invalid(

@@ -96,6 +96,11 @@ const PINNED: &[(&str, f64, &str)] = &[
         40.0,
         "dcfde7ec6cde30e3781e582d57d6efa347b92488067aefc9c6bc4c4de529526f",
     ),
+    (
+        "three_span_continuous",
+        0.0,
+        "0006b07c73d11a02b4a6b870241b78feae59f731ea6587658ad51f3a7b7c940c",
+    ),
 ];
 
 /// The SHA-256 of what `simulate` writes for `example` over `duration_s`.

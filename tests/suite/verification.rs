@@ -64,6 +64,21 @@ fn manufactured_solution() {
 }
 
 #[test]
+fn girder_frequencies_against_the_exact_determinant() {
+    assert_group("girder_frequencies", 54);
+}
+
+#[test]
+fn girder_statics_against_the_three_moment_equation() {
+    assert_group("girder_statics", 8);
+}
+
+#[test]
+fn girder_moving_force_against_exact_modes() {
+    assert_group("girder_moving_force", 8);
+}
+
+#[test]
 fn vbi_equilibrium() {
     assert_group("vbi_equilibrium", 8);
 }
@@ -197,6 +212,9 @@ fn every_group_is_tested_here() {
             "moving_force",
             "daf",
             "manufactured",
+            "girder_frequencies",
+            "girder_statics",
+            "girder_moving_force",
             "vbi_equilibrium",
             "vbi_static_loads",
             "vbi_harmonic",
@@ -216,4 +234,55 @@ fn a_wrong_reference_fails_its_row() {
     assert!(!row.pass);
     let nan = CheckRow::relative("x", "nan".into(), "closed form", 1.0, f64::NAN, 1e-3);
     assert!(!nan.pass);
+}
+
+/// Negative control of the two-span rows: the exact modes of the same 60 m girder without
+/// its pier (a joint with no support) do not match the finite elements of the two spans.
+#[test]
+fn a_reference_without_the_pier_fails_the_two_span_rows() {
+    use bridgetwin::physics::bridge::{BeamProperties, Girder, ModelSpec, Support};
+    use bridgetwin::studies::analytic::{Condition, ContinuousBeam};
+    use bridgetwin::studies::verify::{moving_force_history_at, MovingForceCase};
+    let beam = BeamProperties {
+        girder: Girder {
+            spans_m: vec![30.0, 30.0],
+            supports: vec![Support::Pinned, Support::Roller, Support::Roller],
+            overhang_left_m: 0.0,
+            overhang_right_m: 0.0,
+        },
+        ..BeamProperties::paper_default()
+    };
+    let case = MovingForceCase {
+        beam: beam.clone(),
+        spec: ModelSpec::FiniteElement { elements: 80 },
+        damping_ratio: 0.0,
+        force_n: 200_000.0,
+        speed_m_s: 30.0,
+        dt_s: 1e-3,
+        free_time_s: 0.5,
+    };
+    let (times, numerical) = moving_force_history_at(&case, 15.0).expect("FE run");
+    let no_pier = ContinuousBeam {
+        pieces_m: vec![30.0, 30.0],
+        conditions: vec![
+            Condition::Pinned,
+            Condition::Springs {
+                vertical_n_m: 0.0,
+                rotational_n_m_rad: 0.0,
+            },
+            Condition::Pinned,
+        ],
+        flexural_rigidity_n_m2: beam.flexural_rigidity_n_m2,
+        mass_per_length_kg_m: beam.mass_per_length_kg_m,
+    };
+    let modes = no_pier.modes(20).expect("modes");
+    let reference = no_pier
+        .moving_force_deflection(&modes, &[0.0; 20], 200_000.0, 30.0, 15.0, &times)
+        .expect("series");
+    let peak = |v: &[f64]| v.iter().fold(0.0f64, |a, &b| a.max(b.abs()));
+    let error = (peak(&numerical) / peak(&reference) - 1.0).abs();
+    assert!(
+        error > 0.1,
+        "a girder without its pier matched to {error:e}"
+    );
 }

@@ -360,6 +360,15 @@ impl BridgeModel {
         op.dot(state)
     }
 
+    /// Consistent load vector of a point force `force_n` (upward positive) at `x_m`.
+    pub fn point_load_vector(&self, x_m: f64, force_n: f64) -> DVector<f64> {
+        let mut op = SparseVec::with_capacity(self.n_dof());
+        self.point_operator(x_m, PointQuantity::Deflection, &mut op);
+        let mut load = DVector::zeros(self.n_dof());
+        op.add_scaled_to(force_n, &mut load);
+        load
+    }
+
     /// Consistent load vector of a distributed load q(x) (N/m, upward positive), by
     /// 4-point Gauss quadrature on each mesh element (exact for cubic x cubic loads).
     pub fn distributed_load(&self, q_n_m: impl Fn(f64) -> f64) -> DVector<f64> {

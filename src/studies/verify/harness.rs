@@ -31,6 +31,14 @@ pub struct MovingForceCase {
 
 /// Midspan deflection history, DOWNWARD positive (as the analytical module), and the times.
 pub fn moving_force_history(case: &MovingForceCase) -> Result<(Vec<f64>, Vec<f64>)> {
+    moving_force_history_at(case, case.beam.length_m() / 2.0)
+}
+
+/// Deflection history at `probe_m`, DOWNWARD positive, and the times.
+pub fn moving_force_history_at(
+    case: &MovingForceCase,
+    probe_m: f64,
+) -> Result<(Vec<f64>, Vec<f64>)> {
     let model = BridgeModel::build(&case.beam, &case.spec, case.damping_ratio)?;
     let coefficients = NewmarkCoefficients::new(case.dt_s, NewmarkParams::default())?;
     let road = LevelRoad;
@@ -45,7 +53,6 @@ pub fn moving_force_history(case: &MovingForceCase) -> Result<(Vec<f64>, Vec<f64
     solver.add_vehicle(CoupledVehicle::new(0, force, case.speed_m_s, 0.0, 0));
     let duration_s = case.beam.length_m() / case.speed_m_s + case.free_time_s;
     let steps = (duration_s / case.dt_s).round() as u64;
-    let mid = case.beam.length_m() / 2.0;
     let mut op = SparseVec::with_capacity(model.n_dof());
     let mut times = vec![0.0];
     let mut deflection = vec![0.0];
@@ -53,7 +60,7 @@ pub fn moving_force_history(case: &MovingForceCase) -> Result<(Vec<f64>, Vec<f64
     for _ in 0..steps {
         stepper.advance(&mut solver)?;
         times.push(solver.time_s());
-        deflection.push(-solver.bridge_response(mid, PointQuantity::Deflection, 0, &mut op));
+        deflection.push(-solver.bridge_response(probe_m, PointQuantity::Deflection, 0, &mut op));
     }
     Ok((times, deflection))
 }

@@ -5,6 +5,7 @@
 //! the error the discretization or the time step is expected to leave, not a fudge.
 
 mod beam_checks;
+mod girder_checks;
 mod harness;
 mod vbi;
 
@@ -14,7 +15,11 @@ pub use beam_checks::{
     daf_table, frequencies, lumped_frequency_error, manufactured_solution, moving_force,
     newmark_oscillator, static_deflection,
 };
-pub use harness::{manufactured_history, moving_force_history, ManufacturedCase, MovingForceCase};
+pub use girder_checks::{girder_frequencies, girder_moving_force, girder_statics};
+pub use harness::{
+    manufactured_history, moving_force_history, moving_force_history_at, ManufacturedCase,
+    MovingForceCase,
+};
 pub use vbi::{
     approach_equilibrium, road_profiles, sine_road_response, sprung_mass_crossing, static_loads,
     suspension_limits, truck_vs_moving_forces, unilateral_contact, TRUCK_COUPLED_REFERENCE,
@@ -115,6 +120,18 @@ pub fn ladder() -> Vec<CheckGroup> {
         CheckGroup {
             name: "manufactured",
             run: manufactured_solution,
+        },
+        CheckGroup {
+            name: "girder_frequencies",
+            run: girder_frequencies,
+        },
+        CheckGroup {
+            name: "girder_statics",
+            run: girder_statics,
+        },
+        CheckGroup {
+            name: "girder_moving_force",
+            run: girder_moving_force,
         },
         CheckGroup {
             name: "vbi_equilibrium",

@@ -177,6 +177,7 @@ fn scenario_strategy() -> impl Strategy<Value = Scenario> {
                     rate_hz: d.rate_fraction * solver_rate_hz,
                     noise_density: d.noise,
                     gauge_depth_m: None,
+                    fibre: None,
                     preset: None,
                     chain: None,
                     daq_node: None,
