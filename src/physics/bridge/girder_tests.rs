@@ -304,3 +304,123 @@ fn haunched_sections_stiffen_the_girder() {
         "{msg}"
     );
 }
+
+/// Reactions of two equal spans under a unit load at `a` in span one, from the pier moment
+/// `M1 = -a (L^2 - a^2) / (4 L^2)`: `R0 = (L - a + M1) / L`, `R2 = M1 / L` (the far support
+/// holds the girder down), `R1 = 1 - R0 - R2`; the load at a node makes FE exact.
+#[test]
+fn reactions_of_two_equal_spans() {
+    let l = 30.0;
+    let beam = girder_beam(
+        &[l, l],
+        &[Support::Pinned, Support::Roller, Support::Roller],
+    );
+    let model = fe(&beam, 60);
+    for a in [4.5, 15.0, 27.0] {
+        let u = static_state(&model, a);
+        let r = model.support_reactions(&ReactionState {
+            u: &u,
+            v: None,
+            a: None,
+            loads: &[(a, -1.0)],
+        });
+        let m1 = -a * (l * l - a * a) / (4.0 * l * l);
+        let (r0, r2) = ((l - a + m1) / l, m1 / l);
+        let exact = [r0, 1.0 - r0 - r2, r2];
+        for (got, want) in r.iter().zip(exact) {
+            assert!((got - want).abs() < 1e-9, "a = {a}: {r:?} vs {exact:?}");
+        }
+    }
+}
+
+/// Three spans 20 + 25 + 20 m, clamped at the left, an elastic first pier (2e8 N/m, 1e9 N
+/// m/rad), rollers, and a 4 m overhang on the right.
+fn elastic_pier_girder() -> BeamProperties {
+    let spring = Support::Elastic {
+        vertical_n_m: 2e8,
+        rotational_n_m_rad: 1e9,
+    };
+    BeamProperties {
+        girder: Girder {
+            spans_m: vec![20.0, 25.0, 20.0],
+            supports: vec![Support::Fixed, spring, Support::Roller, Support::Roller],
+            overhang_left_m: 0.0,
+            overhang_right_m: 4.0,
+        },
+        ..BeamProperties::paper_default()
+    }
+}
+
+/// Static equilibrium: the reactions sum to the loads on any girder and model, with a
+/// clamped end, an elastic pier, an overhang, a load on the overhang's tip and one on a
+/// support (which the support takes whole). A modal model's reactions are shear forces of a
+/// truncated series, which converges slowly (they are not asserted here; see
+/// `modal_shapes_of_a_symmetric_girder_are_finite` for the modal model).
+#[test]
+fn reactions_balance_the_loads() {
+    let beam = elastic_pier_girder();
+    let loads = [
+        (3.3, -1.0e5),
+        (20.0, -2.0e5),
+        (31.7, -5.0e4),
+        (69.0, -3.0e4),
+        (45.0, -1.0e5),
+    ];
+    for spec in [
+        ModelSpec::FiniteElement { elements: 69 },
+        ModelSpec::LumpedMass {
+            nodes: 60,
+            stiffness: LumpedStiffness::Auto,
+        },
+    ] {
+        let model = BridgeModel::build(&beam, &spec, 0.0).unwrap();
+        let mut f = DVector::zeros(model.n_dof());
+        for &(x, p) in &loads {
+            f += model.point_load_vector(x, p);
+        }
+        let u = model.stiffness.to_dense().cholesky().unwrap().solve(&f);
+        let r = model.support_reactions(&ReactionState {
+            u: &u,
+            v: None,
+            a: None,
+            loads: &loads,
+        });
+        let total: f64 = loads.iter().map(|l| -l.1).sum();
+        let sum: f64 = r.iter().sum();
+        // FE: exact. The lumped model's field between its masses is T u, the
+        // condensation's, which leaves out the local response of a load between two
+        // masses (the share of the load on the condensed-out rotations): 4e-4 of the load
+        // here, within 1e-3.
+        let tolerance = match spec {
+            ModelSpec::FiniteElement { .. } => 1e-9,
+            _ => 1e-3,
+        };
+        assert!(
+            (sum / total - 1.0).abs() < tolerance,
+            "{}: {r:?} sum {sum} vs {total}",
+            spec.label()
+        );
+    }
+}
+
+/// Regression test of the band eigen-solver's normalization: on this girder's nearly
+/// repeated modes (two equal end spans) the inverse iteration's shift hit an eigenvalue to
+/// the last bit, the zero pivot's stand-in made entries of 1e150, the norm overflowed and
+/// modes 38, 51 and 56 came out NaN.
+#[test]
+fn modal_shapes_of_a_symmetric_girder_are_finite() {
+    let beam = elastic_pier_girder();
+    let model = BridgeModel::build(
+        &beam,
+        &ModelSpec::Modal {
+            modes: 60,
+            elements: Some(138),
+        },
+        0.0,
+    )
+    .unwrap();
+    for x in [3.3, 20.0, 31.7, 45.0, 69.0] {
+        let f = model.point_load_vector(x, -1.0);
+        assert!(f.iter().all(|v| v.is_finite()), "x = {x}");
+    }
+}

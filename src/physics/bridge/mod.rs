@@ -8,6 +8,7 @@ mod lumped;
 mod mesh;
 mod model;
 mod modes;
+mod reactions;
 mod sparse;
 
 pub use beam::{BeamProperties, Section, StiffnessRegion, Varying};
@@ -21,6 +22,7 @@ pub use lumped::{
 pub use mesh::{HermiteMesh, PointQuantity};
 pub use model::{BridgeModel, LumpedStiffness, ModelSpec, MAX_ELEMENTS, REPORTED_MODES};
 pub use modes::{generalized_modes, Modes, Rayleigh, Wanted, DENSE_EIGEN_MAX_DOF};
+pub use reactions::ReactionState;
 pub use sparse::SparseVec;
 
 #[cfg(test)]

@@ -392,6 +392,24 @@ impl BridgeModel {
         load
     }
 
+    /// The Hermite mesh the model's DOFs map onto.
+    pub(super) fn mesh(&self) -> &HermiteMesh {
+        &self.mesh
+    }
+
+    /// The value of mesh equation `dof` for a state over the model DOFs.
+    pub(super) fn mesh_dof_value(&self, dof: usize, state: &DVector<f64>) -> f64 {
+        match &self.reduction {
+            Reduction::Identity => state[dof],
+            Reduction::Dense(t) => t
+                .row(dof)
+                .iter()
+                .zip(state.iter())
+                .map(|(a, b)| a * b)
+                .sum(),
+        }
+    }
+
     /// Positions where `/truth/bridge` reports the deflected shape (mesh nodes, supports
     /// included).
     pub fn shape_positions_m(&self) -> &[f64] {

@@ -335,8 +335,14 @@ fn orthogonalize(
     }
 }
 
-/// Scales `x` to `x^T M x = 1`.
+/// Scales `x` to `x^T M x = 1`. The largest entry is brought to 1 first: a shift that
+/// lands on an eigenvalue to the last bit leaves a zero pivot (replaced by a tiny one), and
+/// the solve's entries of 1e150 would overflow the norm's squares.
 fn normalize(x: &mut DVector<f64>, mx: &mut DVector<f64>, m: &SymBand) {
+    let largest = x.amax();
+    if largest > 0.0 && largest.is_finite() {
+        *x /= largest;
+    }
     mx.fill(0.0);
     m.mul_add(1.0, x.as_slice(), mx.as_mut_slice());
     let norm = x.dot(mx).sqrt();

@@ -431,6 +431,16 @@ mod tests {
         assert!((b[1] - 3.926_602_312_047_919).abs() < 1e-10, "{b:?}");
     }
 
+    /// Three equal spans (docs/physics.md section 10): b L = pi, 3.5564, 4.2975.
+    #[test]
+    fn three_equal_spans() {
+        use Condition::*;
+        let b = beam(&[1.0, 1.0, 1.0], &[Pinned; 4]).wavenumbers(3).unwrap();
+        for (got, expected) in b.iter().zip([std::f64::consts::PI, 3.5564, 4.2975]) {
+            assert!((got - expected).abs() < 1e-4, "{b:?}");
+        }
+    }
+
     /// Stiff springs tend to pinned supports, soft ones to a free beam on springs.
     #[test]
     fn springs_bridge_the_limits() {
