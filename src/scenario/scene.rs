@@ -48,8 +48,9 @@ impl Scenario {
             _ => SCENE_FALLBACK_WEIGHT_N,
         };
         // Static midspan deflection of a simply supported beam under a central point
-        // load, P L^3 / (48 EI) (e.g. Timoshenko and Gere, Mechanics of Materials).
-        let span_m = self.bridge.length_m();
+        // load, P L^3 / (48 EI) (e.g. Timoshenko and Gere, Mechanics of Materials), on the
+        // longest span: an upper bound for a continuous girder, whose spans are stiffer.
+        let span_m = self.bridge.girder().longest_span_m();
         let expected_peak_m =
             reference_n * span_m.powi(3) / (48.0 * self.bridge.flexural_rigidity_n_m2);
         let listed_lanes = vehicles.iter().map(|v| v.lane + 1).max().unwrap_or(1);
