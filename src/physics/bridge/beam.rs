@@ -81,7 +81,7 @@ pub struct Section {
 
 /// Gauss-Legendre points and weights on [-1, 1], 4 points: exact for the piecewise
 /// linear sections times piecewise-constant factors integrated between their edges.
-const GAUSS_4: [(f64, f64); 4] = [
+pub(super) const GAUSS_4: [(f64, f64); 4] = [
     (-0.861_136_311_594_052_6, 0.347_854_845_137_453_85),
     (-0.339_981_043_584_856_3, 0.652_145_154_862_546_2),
     (0.339_981_043_584_856_3, 0.652_145_154_862_546_2),

@@ -269,7 +269,12 @@ impl ForceMethod {
 
     /// Downward deflection at `x_m` per downward newton at `a_m`.
     pub fn deflection_m_per_n(&self, x_m: f64, a_m: f64) -> f64 {
-        let m = self.support_moments(a_m);
+        self.deflection_with_moments(x_m, a_m, &self.support_moments(a_m))
+    }
+
+    /// [`Self::deflection_m_per_n`] with the support moments of the load at `a_m` given
+    /// (they depend on the load only: one solve per column of a flexibility matrix).
+    fn deflection_with_moments(&self, x_m: f64, a_m: f64, m: &DVector<f64>) -> f64 {
         let ei = self.ei_n_m2;
         let load = self.place(a_m);
         let n = self.spans_m.len();
@@ -335,9 +340,14 @@ pub fn flexibility_matrix(beam: &BeamProperties, positions_m: &[f64]) -> Result<
              only at an end without an overhang); use \"condensation\"",
         )
     })?;
-    Ok(DMatrix::from_fn(n, n, |i, j| {
-        method.deflection_m_per_n(positions_m[i], positions_m[j])
-    }))
+    let mut f = DMatrix::zeros(n, n);
+    for (j, &a) in positions_m.iter().enumerate() {
+        let moments = method.support_moments(a);
+        for (i, &x) in positions_m.iter().enumerate() {
+            f[(i, j)] = method.deflection_with_moments(x, a, &moments);
+        }
+    }
+    Ok(f)
 }
 
 /// K = F^-1 by Cholesky (F is symmetric positive definite). Only for uniform girders on

@@ -106,12 +106,6 @@ impl HermiteMesh {
         Self::new(beam, girder_nodes(beam, n_elements))
     }
 
-    /// Simply supported beam with `n_elements` equal elements (the girder's own layout
-    /// when it is one span).
-    pub fn simply_supported(beam: &BeamProperties, n_elements: usize) -> Self {
-        Self::on_girder(beam, n_elements)
-    }
-
     /// Elements the mesh of [`Self::on_girder`] needs at least: one per piece between key
     /// points (ends, supports, section edges).
     pub fn min_elements(beam: &BeamProperties) -> usize {
@@ -271,7 +265,7 @@ mod tests {
     #[test]
     fn locate_finds_element_and_local_coordinate() {
         let beam = BeamProperties::paper_default();
-        let mesh = HermiteMesh::simply_supported(&beam, 10);
+        let mesh = HermiteMesh::on_girder(&beam, 10);
         assert_eq!(mesh.locate(0.0), (0, 0.0));
         let (e, xi) = mesh.locate(4.5);
         assert_eq!(e, 1);

@@ -6,7 +6,7 @@ use nalgebra::{DMatrix, DVector};
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
-use super::beam::BeamProperties;
+use super::beam::{BeamProperties, GAUSS_4};
 use super::lumped::{
     condensation_mesh, condense, force_method_applies, mass_dofs, mass_layout,
     stiffness_by_flexibility,
@@ -372,18 +372,12 @@ impl BridgeModel {
     /// Consistent load vector of a distributed load q(x) (N/m, upward positive), by
     /// 4-point Gauss quadrature on each mesh element (exact for cubic x cubic loads).
     pub fn distributed_load(&self, q_n_m: impl Fn(f64) -> f64) -> DVector<f64> {
-        const GAUSS: [(f64, f64); 4] = [
-            (-0.861_136_311_594_052_6, 0.347_854_845_137_453_85),
-            (-0.339_981_043_584_856_3, 0.652_145_154_862_546_2),
-            (0.339_981_043_584_856_3, 0.652_145_154_862_546_2),
-            (0.861_136_311_594_052_6, 0.347_854_845_137_453_85),
-        ];
         let mut load = DVector::zeros(self.n_dof());
         let mut op = SparseVec::with_capacity(self.n_dof());
         for pair in self.mesh.node_x_m.windows(2) {
             let (a, b) = (pair[0], pair[1]);
             let half = 0.5 * (b - a);
-            for (s, weight) in GAUSS {
+            for (s, weight) in GAUSS_4 {
                 let x = a + half * (1.0 + s);
                 self.point_operator(x, PointQuantity::Deflection, &mut op);
                 op.add_scaled_to(weight * half * q_n_m(x), &mut load);

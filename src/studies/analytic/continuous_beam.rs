@@ -14,7 +14,7 @@
 //!
 //! Sign convention of the module: deflection and loads DOWNWARD positive.
 
-use nalgebra::{DMatrix, DVector};
+use nalgebra::DMatrix;
 
 use super::dopri45::{Dopri45, Dopri45Options};
 use crate::error::{Error, Result};
@@ -357,35 +357,6 @@ impl ContinuousBeam {
         }
         Ok(out)
     }
-
-    /// Static deflection (downward) at `x_m` under a unit downward load at `a_m`, by the
-    /// modal expansion of the flexibility, `sum phi(x) phi(a) / omega^2` over `modes`
-    /// (converges as 1 / n^3: a check, not a reference).
-    pub fn modal_flexibility(&self, modes: &[ExactMode], x_m: f64, a_m: f64) -> f64 {
-        modes
-            .iter()
-            .map(|m| {
-                self.shape(m, x_m, 0) * self.shape(m, a_m, 0) / (m.omega_rad_s * m.omega_rad_s)
-            })
-            .sum()
-    }
-}
-
-/// The shape values of `modes` at `xs_m` as a matrix (for projections in tests).
-pub fn shape_matrix(beam: &ContinuousBeam, modes: &[ExactMode], xs_m: &[f64]) -> DMatrix<f64> {
-    DMatrix::from_fn(xs_m.len(), modes.len(), |i, k| {
-        beam.shape(&modes[k], xs_m[i], 0)
-    })
-}
-
-/// `DVector` of each mode's frequency (Hz).
-pub fn frequencies_of(modes: &[ExactMode]) -> DVector<f64> {
-    DVector::from_iterator(
-        modes.len(),
-        modes
-            .iter()
-            .map(|m| m.omega_rad_s / (2.0 * std::f64::consts::PI)),
-    )
 }
 
 #[cfg(test)]
