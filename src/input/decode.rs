@@ -10,8 +10,9 @@ use prost::Message;
 use super::table::{Table, TableBuilder};
 use crate::output::proto::foxglove::Log;
 use crate::output::proto::v1::{
-    AccelerationSample, AxleLoads, BridgeState, DisplacementSample, FaultInterval, SampleBlock,
-    SensorTruth, SensorTruthBlock, StrainSample, VehicleTruth, WimRecord,
+    AccelerationSample, AxleLoads, BridgeState, DisplacementSample, FaultInterval, ReactionSample,
+    RotationSample, SampleBlock, SensorTruth, SensorTruthBlock, StrainSample, VehicleTruth,
+    WimRecord,
 };
 use crate::record::SensorKind;
 
@@ -21,6 +22,8 @@ pub enum Decoder {
     Acceleration,
     Strain,
     Displacement,
+    Rotation,
+    Reaction,
     SampleBlock,
     SensorTruth,
     SensorTruthBlock,
@@ -40,6 +43,8 @@ impl Decoder {
             "bridgetwin.v1.AccelerationSample" => Decoder::Acceleration,
             "bridgetwin.v1.StrainSample" => Decoder::Strain,
             "bridgetwin.v1.DisplacementSample" => Decoder::Displacement,
+            "bridgetwin.v1.RotationSample" => Decoder::Rotation,
+            "bridgetwin.v1.ReactionSample" => Decoder::Reaction,
             "bridgetwin.v1.SampleBlock" => Decoder::SampleBlock,
             "bridgetwin.v1.SensorTruth" => Decoder::SensorTruth,
             "bridgetwin.v1.SensorTruthBlock" => Decoder::SensorTruthBlock,
@@ -94,6 +99,26 @@ impl Decoder {
                     m.displacement_m,
                 )
             }
+            Decoder::Rotation => {
+                let m: RotationSample = parse(data)?;
+                sample(
+                    table,
+                    log,
+                    stamp(&m.timestamp)?,
+                    SensorKind::Inclinometer,
+                    m.rotation_rad,
+                )
+            }
+            Decoder::Reaction => {
+                let m: ReactionSample = parse(data)?;
+                sample(
+                    table,
+                    log,
+                    stamp(&m.timestamp)?,
+                    SensorKind::LoadCell,
+                    m.reaction_n,
+                )
+            }
             Decoder::SampleBlock => sample_block(table, log, &parse(data)?),
             Decoder::SensorTruth => sensor_truth(table, log, &parse(data)?),
             Decoder::SensorTruthBlock => truth_block(table, log, &parse(data)?),
@@ -115,14 +140,10 @@ impl Decoder {
         let mut builder = TableBuilder::default();
         let decoded = match self {
             Decoder::SampleBlock => {
-                let quantity = [
-                    SensorKind::Accelerometer,
-                    SensorKind::Strain,
-                    SensorKind::Displacement,
-                ]
-                .into_iter()
-                .find(|k| Some(k.unit()) == channel_unit)
-                .map_or("", SensorKind::quantity);
+                let quantity = SensorKind::ALL
+                    .into_iter()
+                    .find(|k| Some(k.unit()) == channel_unit)
+                    .map_or("", SensorKind::quantity);
                 let block = SampleBlock {
                     quantity: quantity.to_string(),
                     ..SampleBlock::default()
@@ -245,6 +266,8 @@ fn sensor_truth(table: &mut TableBuilder, log: i64, m: &SensorTruth) -> Result<(
     table.f64("acceleration_m_s2", m.acceleration_m_s2);
     table.f64("strain_microstrain", m.strain_microstrain);
     table.f64("moment_n_m", m.moment_n_m);
+    table.f64("rotation_rad", m.rotation_rad);
+    table.f64("reaction_n", m.reaction_n);
     table.i64("node_timestamp_ns", node.unwrap_or(stamp_ns));
     table.bool("measured_lost", m.measured_lost);
     Ok(())
@@ -273,6 +296,22 @@ fn truth_block(table: &mut TableBuilder, log: i64, m: &SensorTruthBlock) -> Resu
     table.str_repeated("sensor_id", &m.sensor_id, n);
     for (name, c) in columns {
         table.f64s(name, c.iter().copied());
+    }
+    // Only the kind that measures them fills these (an inclinometer, a load cell); the
+    // others leave them empty, meaning zero, as the per-sample layout does.
+    for (name, c) in [
+        ("rotation_rad", &m.rotation_rad),
+        ("reaction_n", &m.reaction_n),
+    ] {
+        match c.len() {
+            0 => table.f64s(name, std::iter::repeat_n(0.0, n)),
+            len if len == n => table.f64s(name, c.iter().copied()),
+            len => {
+                return Err(format!(
+                    "truth block: {name} has {len} samples, displacement_m {n}"
+                ))
+            }
+        }
     }
     Ok(())
 }
@@ -339,6 +378,7 @@ fn bridge(table: &mut TableBuilder, log: i64, m: &BridgeState) -> Result<(), Str
     table.f64_list("stiffness_ratio", &m.stiffness_ratio);
     table.f64("air_temperature_c", m.air_temperature_c);
     table.f64_list("damage_fraction", &m.damage_fraction);
+    table.f64_list("support_reaction_n", &m.support_reaction_n);
     // Mode shapes come in the first message only: one list per field, empty afterwards.
     let modes: Vec<u32> = m.mode_shapes.iter().map(|s| s.mode_number).collect();
     table.u32_list("mode_shapes.mode_number", &modes);

@@ -9,8 +9,9 @@ use std::io::{Seek, Write};
 use super::blocks::{OpenBlock, Stream};
 use super::proto::foxglove::{Log, SceneUpdate};
 use super::proto::v1::{
-    AccelerationSample, AxleLoads, BridgeState, DisplacementSample, FaultInterval, SampleBlock,
-    SensorTruth, SensorTruthBlock, StrainSample, VehicleTruth, WimRecord,
+    AccelerationSample, AxleLoads, BridgeState, DisplacementSample, FaultInterval, ReactionSample,
+    RotationSample, SampleBlock, SensorTruth, SensorTruthBlock, StrainSample, VehicleTruth,
+    WimRecord,
 };
 use super::scene::SCENE_FRAME;
 use super::{metadata, ChannelId, McapSink, Topics};
@@ -228,7 +229,7 @@ fn sensor_metadata(manifest: &RunManifest, sensor: &SensorChannelInfo) -> BTreeM
         ("position_m", position.as_str()),
         ("sensor_model", sensor.model.as_str()),
         ("noise_density_per_sqrt_hz", density.as_str()),
-        ("sign", "downward positive (strain: tension positive)"),
+        ("sign", sensor.kind.sign()),
         ("layout", layout_name.as_str()),
     ]);
     for (name, value) in &sensor.chain {
@@ -262,11 +263,7 @@ fn sensor_channels<W: Write + Seek>(
 ) -> Result<SensorChannels> {
     let layout = manifest.layout;
     let mut meta = sensor_metadata(manifest, sensor);
-    let topic = match sensor.kind {
-        SensorKind::Accelerometer => Topics::accel(&sensor.id)?,
-        SensorKind::Strain => Topics::strain(&sensor.id)?,
-        SensorKind::Displacement => Topics::disp(&sensor.id)?,
-    };
+    let topic = Topics::sensor(sensor.kind, &sensor.id)?;
     let measured = match (layout, sensor.kind) {
         (Layout::Block, _) => sink.add_channel::<SampleBlock>(&topic, meta.clone())?,
         (_, SensorKind::Accelerometer) => {
@@ -276,6 +273,10 @@ fn sensor_channels<W: Write + Seek>(
         (_, SensorKind::Displacement) => {
             sink.add_channel::<DisplacementSample>(&topic, meta.clone())?
         }
+        (_, SensorKind::Inclinometer) => {
+            sink.add_channel::<RotationSample>(&topic, meta.clone())?
+        }
+        (_, SensorKind::LoadCell) => sink.add_channel::<ReactionSample>(&topic, meta.clone())?,
     };
     meta.insert(
         "sensor_model".into(),
@@ -325,19 +326,16 @@ fn preview_channels<W: Write + Seek>(
              (pass band to 0.4 x sample_rate_hz, 60 dB from 0.5 x); analyses read the \
              full-rate topic",
         ),
-        ("sign", "downward positive (strain: tension positive)"),
+        ("sign", sensor.kind.sign()),
     ]);
-    let segment = match sensor.kind {
-        SensorKind::Accelerometer => "accel",
-        SensorKind::Strain => "strain",
-        SensorKind::Displacement => "disp",
-    };
-    let measured_topic = Topics::preview(segment, &sensor.id)?;
+    let measured_topic = Topics::preview(Topics::segment(sensor.kind), &sensor.id)?;
     let truth_topic = Topics::preview_truth(&sensor.id)?;
     let add = |sink: &mut McapSink<W>, topic: &str, meta| match sensor.kind {
         SensorKind::Accelerometer => sink.add_channel::<AccelerationSample>(topic, meta),
         SensorKind::Strain => sink.add_channel::<StrainSample>(topic, meta),
         SensorKind::Displacement => sink.add_channel::<DisplacementSample>(topic, meta),
+        SensorKind::Inclinometer => sink.add_channel::<RotationSample>(topic, meta),
+        SensorKind::LoadCell => sink.add_channel::<ReactionSample>(topic, meta),
     };
     let mut measured_meta = meta.clone();
     if let Some(clock) = &sensor.clock {

@@ -13,8 +13,8 @@ use super::blocks::{ClosedBlock, Pending, Reorder, Stream};
 use super::channels::{register, Channels};
 use super::messages;
 use super::proto::v1::{
-    AccelerationSample, BridgeState, DisplacementSample, SampleBlock, SensorTruth,
-    SensorTruthBlock, StrainSample,
+    AccelerationSample, BridgeState, DisplacementSample, ReactionSample, RotationSample,
+    SampleBlock, SensorTruth, SensorTruthBlock, StrainSample,
 };
 use super::scene::{interpolate, SceneGeometry};
 use super::{timestamp_from_ns, ChannelId, McapSink};
@@ -196,6 +196,10 @@ impl<'a, W: Write + Seek> McapRecorder<'a, W> {
                     acceleration_m_s2: next(),
                     strain_microstrain: next(),
                     moment_n_m: next(),
+                    // The kinds that measure them carry these columns; the others leave
+                    // them empty (their values are zero) rather than grow every block.
+                    rotation_rad: only_for(ch.kind, SensorKind::Inclinometer, next()),
+                    reaction_n: only_for(ch.kind, SensorKind::LoadCell, next()),
                 };
                 self.sink.write(ch.truth, time, &truth)
             }
@@ -232,6 +236,8 @@ impl<'a, W: Write + Seek> McapRecorder<'a, W> {
             acceleration_m_s2: truth.acceleration_m_s2,
             strain_microstrain: truth.strain_microstrain,
             moment_n_m: truth.moment_n_m,
+            rotation_rad: truth.rotation_rad,
+            reaction_n: truth.reaction_n,
             // Only where a node clock makes it differ: it would add 8 % to the file else.
             node_timestamp: (stamp_ns != time.wrapping_sub(run.start_time_ns) as i64)
                 .then_some(node_stamp)
@@ -338,6 +344,7 @@ impl<'a, W: Write + Seek> McapRecorder<'a, W> {
                 deflection_m,
                 temperatures_c,
                 modal,
+                support_reaction_n,
                 ..
             } => {
                 let midspan = interpolate(&run.shape_position_m, &deflection_m, run.span_m / 2.0);
@@ -364,6 +371,7 @@ impl<'a, W: Write + Seek> McapRecorder<'a, W> {
                     msg.stiffness_ratio = modal.stiffness_ratio;
                     msg.damage_fraction = modal.damage_fraction;
                 }
+                msg.support_reaction_n = support_reaction_n;
                 let channel = ch.bridge;
                 let scene_channel = ch.scene;
                 self.sink.write(channel, time, &msg)?;
@@ -447,6 +455,30 @@ fn write_sample<W: Write + Seek>(
                 displacement_m: value,
             },
         ),
+        SensorKind::Inclinometer => sink.write(
+            channel,
+            time,
+            &RotationSample {
+                timestamp,
+                rotation_rad: value,
+            },
+        ),
+        SensorKind::LoadCell => sink.write(
+            channel,
+            time,
+            &ReactionSample {
+                timestamp,
+                reaction_n: value,
+            },
+        ),
+    }
+}
+
+/// A truth block's column for sensors of kind `owner` only (empty for the others).
+fn only_for(kind: SensorKind, owner: SensorKind, column: Vec<f64>) -> Vec<f64> {
+    match kind == owner {
+        true => column,
+        false => Vec::new(),
     }
 }
 

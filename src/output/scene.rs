@@ -63,6 +63,8 @@ fn sensor_color(kind: SensorKind) -> Color {
         SensorKind::Accelerometer => rgba(0.90, 0.30, 0.20, 1.0),
         SensorKind::Strain => rgba(0.20, 0.70, 0.30, 1.0),
         SensorKind::Displacement => rgba(0.20, 0.40, 0.90, 1.0),
+        SensorKind::Inclinometer => rgba(0.85, 0.60, 0.10, 1.0),
+        SensorKind::LoadCell => rgba(0.55, 0.25, 0.75, 1.0),
     }
 }
 

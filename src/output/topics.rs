@@ -2,6 +2,7 @@
 //! typo cannot create a topic the tools and layouts do not know.
 
 use crate::error::{Error, Result};
+use crate::record::SensorKind;
 
 /// Builds and checks topic names. Segments are restricted to `[A-Za-z0-9_-]` so that
 /// they are safe in Foxglove message paths, file names and shell globs.
@@ -40,12 +41,44 @@ impl Topics {
         Self::with_segment("/sensors/disp/", "sensor id", id)
     }
 
+    /// `/sensors/tilt/<id>`: inclinometer as recorded by the DAQ.
+    pub fn tilt(id: &str) -> Result<String> {
+        Self::with_segment("/sensors/tilt/", "sensor id", id)
+    }
+
+    /// `/sensors/load/<id>`: bearing load cell as recorded by the DAQ.
+    pub fn load(id: &str) -> Result<String> {
+        Self::with_segment("/sensors/load/", "sensor id", id)
+    }
+
+    /// The measured topic of a sensor of `kind`: `/sensors/<segment>/<id>`.
+    pub fn sensor(kind: SensorKind, id: &str) -> Result<String> {
+        match kind {
+            SensorKind::Accelerometer => Self::accel(id),
+            SensorKind::Strain => Self::strain(id),
+            SensorKind::Displacement => Self::disp(id),
+            SensorKind::Inclinometer => Self::tilt(id),
+            SensorKind::LoadCell => Self::load(id),
+        }
+    }
+
+    /// The topic segment of a sensor kind (`accel`, `strain`, `disp`, `tilt`, `load`).
+    pub fn segment(kind: SensorKind) -> &'static str {
+        match kind {
+            SensorKind::Accelerometer => "accel",
+            SensorKind::Strain => "strain",
+            SensorKind::Displacement => "disp",
+            SensorKind::Inclinometer => "tilt",
+            SensorKind::LoadCell => "load",
+        }
+    }
+
     /// `/truth/sensors/<id>`: noise-free response at the sensor location.
     pub fn truth_sensor(id: &str) -> Result<String> {
         Self::with_segment("/truth/sensors/", "sensor id", id)
     }
 
-    /// `/preview/<kind>/<id>` (`kind` = accel, strain, disp): the measured stream
+    /// `/preview/<kind>/<id>` (`kind` = accel, strain, disp, tilt, load): the measured stream
     /// decimated for viewers, one sample per message.
     pub fn preview(kind_segment: &str, id: &str) -> Result<String> {
         Self::with_segment(&format!("/preview/{kind_segment}/"), "sensor id", id)

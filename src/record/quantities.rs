@@ -4,7 +4,9 @@ use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 /// Response quantities at a point, output sign convention: displacement, velocity and
-/// acceleration downward positive, strain tension positive, moment sagging positive.
+/// acceleration downward positive, strain tension positive, moment sagging positive,
+/// rotation the slope of the displacement (positive where the deflection grows towards
+/// +x), reaction upward on the girder (compression of the bearing).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct Quantities {
     pub displacement_m: f64,
@@ -12,14 +14,19 @@ pub struct Quantities {
     pub acceleration_m_s2: f64,
     pub strain_microstrain: f64,
     pub moment_n_m: f64,
+    /// d(displacement_m)/dx at the point (rad, small angles).
+    pub rotation_rad: f64,
+    /// The live-load reaction of the support the sensor sits on (N); 0 for a sensor that
+    /// does not measure a support (every kind but the load cell).
+    pub reaction_n: f64,
 }
 
 impl Quantities {
     /// Number of quantities (columns of a truth block).
-    pub const COUNT: usize = 5;
+    pub const COUNT: usize = 7;
 
     /// The quantities in column order: displacement, velocity, acceleration, strain,
-    /// moment (the order of `SensorTruthBlock`'s columns).
+    /// moment, rotation, reaction (the order of `SensorTruthBlock`'s columns).
     pub fn to_columns(&self) -> [f64; Self::COUNT] {
         [
             self.displacement_m,
@@ -27,6 +34,8 @@ impl Quantities {
             self.acceleration_m_s2,
             self.strain_microstrain,
             self.moment_n_m,
+            self.rotation_rad,
+            self.reaction_n,
         ]
     }
 
@@ -38,6 +47,8 @@ impl Quantities {
             acceleration_m_s2: c[2],
             strain_microstrain: c[3],
             moment_n_m: c[4],
+            rotation_rad: c[5],
+            reaction_n: c[6],
         }
     }
 
@@ -47,6 +58,8 @@ impl Quantities {
             SensorKind::Accelerometer => self.acceleration_m_s2,
             SensorKind::Strain => self.strain_microstrain,
             SensorKind::Displacement => self.displacement_m,
+            SensorKind::Inclinometer => self.rotation_rad,
+            SensorKind::LoadCell => self.reaction_n,
         }
     }
 }
@@ -58,15 +71,42 @@ pub enum SensorKind {
     Accelerometer,
     Strain,
     Displacement,
+    /// Rotation (tilt) of the girder's axis, e.g. at a bearing.
+    Inclinometer,
+    /// A load cell under a bearing: the support's reaction. Must sit on a support.
+    LoadCell,
 }
 
 impl SensorKind {
+    /// Every kind, in declaration order.
+    pub const ALL: [SensorKind; 5] = [
+        SensorKind::Accelerometer,
+        SensorKind::Strain,
+        SensorKind::Displacement,
+        SensorKind::Inclinometer,
+        SensorKind::LoadCell,
+    ];
+
     /// Unit of the recorded value.
     pub fn unit(self) -> &'static str {
         match self {
             SensorKind::Accelerometer => "m/s^2",
             SensorKind::Strain => "microstrain",
             SensorKind::Displacement => "m",
+            SensorKind::Inclinometer => "rad",
+            SensorKind::LoadCell => "N",
+        }
+    }
+
+    /// The sign convention of the kind's values, for channel metadata.
+    pub const fn sign(self) -> &'static str {
+        match self {
+            SensorKind::Accelerometer | SensorKind::Displacement => "downward positive",
+            SensorKind::Strain => "tension positive",
+            SensorKind::Inclinometer => {
+                "slope of the downward deflection, positive where it grows towards +x"
+            }
+            SensorKind::LoadCell => "compression of the bearing positive (upward on the girder)",
         }
     }
 
@@ -76,18 +116,16 @@ impl SensorKind {
             SensorKind::Accelerometer => "acceleration",
             SensorKind::Strain => "strain",
             SensorKind::Displacement => "displacement",
+            SensorKind::Inclinometer => "rotation",
+            SensorKind::LoadCell => "reaction",
         }
     }
 
     /// The kind whose [`Self::quantity`] is `quantity`.
     pub fn from_quantity(quantity: &str) -> Option<SensorKind> {
-        [
-            SensorKind::Accelerometer,
-            SensorKind::Strain,
-            SensorKind::Displacement,
-        ]
-        .into_iter()
-        .find(|k| k.quantity() == quantity)
+        SensorKind::ALL
+            .into_iter()
+            .find(|k| k.quantity() == quantity)
     }
 
     /// The value field of the kind's per-sample message, with its unit
@@ -98,6 +136,8 @@ impl SensorKind {
             SensorKind::Accelerometer => "acceleration_m_s2",
             SensorKind::Strain => "strain_microstrain",
             SensorKind::Displacement => "displacement_m",
+            SensorKind::Inclinometer => "rotation_rad",
+            SensorKind::LoadCell => "reaction_n",
         }
     }
 }

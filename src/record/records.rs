@@ -99,13 +99,16 @@ pub enum Record {
         t_ns: u64,
         axles: Vec<AxleState>,
     },
-    /// The deflected shape; with `[environment]` or `[[damage]]` also the (structure, air)
+    /// The deflected shape and the support reactions; with `[environment]` or `[[damage]]`
+    /// also the (structure, air)
     /// temperatures (degC), and after a model rebuild (and once a minute) the modal state.
     BridgeShape {
         t_ns: u64,
         deflection_m: Vec<f64>,
         temperatures_c: Option<(f64, f64)>,
         modal: Option<Box<ModalRecord>>,
+        /// Live-load reaction of each support, girder order (N, upward on the girder).
+        support_reaction_n: Vec<f64>,
     },
     Vehicle {
         t_ns: u64,

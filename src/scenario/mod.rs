@@ -321,12 +321,16 @@ fn default_lane() -> u32 {
 
 /// Default white-noise density in the unit of a sensor of `kind` per sqrt(Hz):
 /// ADXL355-class 22.5 ug/sqrt(Hz); foil strain gauge ~0.5 ue rms at 1 kHz; 1 um/sqrt(Hz)
-/// for displacement (docs/sensors.md sections 1-2).
+/// for displacement (docs/sensors.md sections 1-2); the inclinometer and load-cell
+/// presets' densities for those kinds.
 pub fn default_noise_density(kind: SensorKind) -> f64 {
+    use crate::measurement::sensor::chain::SensorPreset;
     match kind {
         SensorKind::Accelerometer => 22.5e-6 * crate::base::units::GRAVITY_M_S2,
         SensorKind::Strain => 0.02,
         SensorKind::Displacement => 1e-6,
+        SensorKind::Inclinometer => SensorPreset::InclinometerMems.parameters().noise_density,
+        SensorKind::LoadCell => SensorPreset::LoadCellBearing.parameters().noise_density,
     }
 }
 
@@ -349,7 +353,7 @@ pub struct SensorSpec {
     pub id: String,
     /// What the sensor measures.
     pub kind: SensorKind,
-    /// Position along the span (m, in [0, span]).
+    /// Position along the girder (m, in [0, length]); a load cell's is a support's.
     #[schemars(range(min = 0, max = resolve::MAX_SPAN_M))]
     pub position_m: f64,
     /// DAQ sample rate (Hz, <= 1/dt; need not divide it).
@@ -370,8 +374,9 @@ pub struct SensorSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fibre: Option<Fibre>,
     /// Measurement-chain preset (`ideal`, `mems_lownoise`, `piezo_seismic`,
-    /// `force_balance`, `mems_consumer`, `strain_foil`); with neither `preset` nor `chain`
-    /// the channel adds white noise only (`noise_density`).
+    /// `force_balance`, `mems_consumer`, `strain_foil`, `inclinometer_mems`,
+    /// `load_cell_bearing`); with neither `preset` nor `chain` the channel adds white
+    /// noise only (`noise_density`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub preset: Option<crate::measurement::sensor::chain::SensorPreset>,
     /// Overrides of the preset, field by field (`[sensors.chain]`).

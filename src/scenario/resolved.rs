@@ -260,6 +260,13 @@ fn on_a_support(i: usize, sensor: &ResolvedSensor, girder: &Girder) -> Option<St
         .enumerate()
         .filter(|(k, _)| girder.supports[*k].rigid_vertical())
         .min_by(|a, b| (a.1 - x).abs().total_cmp(&(b.1 - x).abs()))?;
+    // A load cell belongs there; an inclinometer reads the support's rotation unless the
+    // support is clamped.
+    match sensor.spec.kind {
+        SensorKind::LoadCell => return None,
+        SensorKind::Inclinometer if !girder.supports[k].rigid_rotation() => return None,
+        _ => {}
+    }
     let free_end =
         (k == 0 && girder.overhang_left_m == 0.0) || (k == last && girder.overhang_right_m == 0.0);
     let bends = !free_end || girder.supports[k].rigid_rotation();

@@ -16,6 +16,9 @@ use crate::measurement::daq::{ClockError, NodeClock};
 use crate::measurement::sensor::chain::{resolve, RealisedChain, ResolvedChain, TransducerKind};
 use crate::measurement::sensor::{AntiAliasOptions, ChannelDesign};
 
+/// How far a load cell may sit from its support (m): a survey's rounding.
+const LOAD_CELL_TOLERANCE_M: f64 = 1e-3;
+
 /// The stream of node `id`'s clock, shared by all its channels (the resync draws are the
 /// node's, not a channel's).
 fn node_stream(seed: u64, id: &str) -> ChaCha8Rng {
@@ -49,6 +52,9 @@ impl Scenario {
                     num(p),
                     format!("must lie on the span [0, {}] m", self.bridge.length_m()),
                 ));
+            }
+            if s.kind == SensorKind::LoadCell {
+                self.check_on_support(&format!("{path}.position_m"), p)?;
             }
             require_positive(&format!("{path}.rate_hz"), s.rate_hz)?;
             if s.rate_hz > solver_rate_hz * (1.0 + 1e-12) {
@@ -134,6 +140,28 @@ impl Scenario {
             });
         }
         Ok(out)
+    }
+
+    /// A load cell measures a support's reaction: `x_m` must be a support's position
+    /// (to 1 mm).
+    fn check_on_support(&self, field: &str, x_m: f64) -> Result<()> {
+        let supports = self.bridge.girder().support_positions_m();
+        if supports
+            .iter()
+            .any(|&s| (s - x_m).abs() <= LOAD_CELL_TOLERANCE_M)
+        {
+            return Ok(());
+        }
+        let list: Vec<String> = supports.iter().map(|&s| num(s)).collect();
+        Err(Error::invalid(
+            field,
+            num(x_m),
+            format!(
+                "is not on a support: a load cell measures a support's reaction, so it \
+                 must sit at one of the supports [{}] m",
+                list.join(", ")
+            ),
+        ))
     }
 
     /// The preview rate in force (`output.preview_rate_hz`, its default for the layout),
@@ -251,6 +279,8 @@ fn resolve_chain(s: &SensorSpec, path: &str) -> Result<Option<ResolvedChain>> {
         SensorKind::Accelerometer => TransducerKind::Accelerometer,
         SensorKind::Strain => TransducerKind::Strain,
         SensorKind::Displacement => TransducerKind::Displacement,
+        SensorKind::Inclinometer => TransducerKind::Inclinometer,
+        SensorKind::LoadCell => TransducerKind::LoadCell,
     };
     let mut spec = s.chain.clone().unwrap_or_default();
     if let Some(d) = s.noise_density {

@@ -24,7 +24,7 @@ use crate::measurement::wim::WimPassage;
 use crate::physics::vehicle::VehicleDynamics;
 use crate::record::{
     AxleState, EventLevel, ForecastRecords, ModalRecord, Quantities, Record, RecordForecast,
-    SensorForecast, VehicleRecord, WimRecordData,
+    SensorForecast, SensorKind, VehicleRecord, WimRecordData,
 };
 use crate::scenario::{Resolved, ResolvedSensor};
 
@@ -48,7 +48,20 @@ const TYPICAL_QUANTITIES: Quantities = Quantities {
     acceleration_m_s2: 3.5e-2,
     strain_microstrain: 12.5,
     moment_n_m: 2.5e5,
+    rotation_rad: 2.5e-4,
+    reaction_n: 0.0,
 };
+
+/// The typical truth of a sensor of `kind`: only a load cell's carries a reaction.
+fn typical_quantities(kind: SensorKind) -> Quantities {
+    match kind {
+        SensorKind::LoadCell => Quantities {
+            reaction_n: 1.25e5,
+            ..TYPICAL_QUANTITIES
+        },
+        _ => TYPICAL_QUANTITIES,
+    }
+}
 
 /// One vehicle's passage over the road, as the forecast needs it.
 struct Passage {
@@ -129,6 +142,7 @@ pub fn forecast(resolved: &Resolved, prepared: &Prepared) -> Result<RecordForeca
     // Deflected shapes, with the modal state once a minute and after each rebuild.
     let shapes = resolved.steps / resolved.bridge_stride + 1;
     let nodes = prepared.model.shape_positions_m().len();
+    let supports = prepared.model.beam.girder.supports.len();
     let (frequencies_hz, damping) = prepared.model.modal_summary(10);
     let temperatures_c = prepared
         .condition
@@ -145,6 +159,7 @@ pub fn forecast(resolved: &Resolved, prepared: &Prepared) -> Result<RecordForeca
             .collect(),
         temperatures_c,
         modal,
+        support_reaction_n: vec![scale * 1.25e5; supports],
     };
     let modal = ModalRecord {
         natural_frequency_hz: frequencies_hz.clone(),
@@ -469,7 +484,8 @@ fn sensor_forecast(sensor: &ResolvedSensor, duration_ns: u64, rest_s: f64) -> Se
     let preview_samples = sensor
         .preview_factor
         .map_or(0, |factor| samples.div_ceil(factor.max(1)));
-    let measured = TYPICAL_QUANTITIES.measured_by(sensor.spec.kind);
+    let truth = typical_quantities(sensor.spec.kind);
+    let measured = truth.measured_by(sensor.spec.kind);
     let noisy = sensor.chain.is_some() || sensor.channel_noise_density() > 0.0;
     SensorForecast {
         samples,
@@ -479,7 +495,7 @@ fn sensor_forecast(sensor: &ResolvedSensor, duration_ns: u64, rest_s: f64) -> Se
         interruptions,
         preview_samples,
         measured,
-        truth: TYPICAL_QUANTITIES,
+        truth,
     }
 }
 

@@ -9,6 +9,7 @@ mod daq;
 mod forecast;
 mod manifest;
 mod preview;
+mod probes;
 mod tap;
 mod tracking;
 mod traffic;
@@ -18,7 +19,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use crate::base::random::child_rng;
 use crate::error::Result;
-use crate::physics::bridge::{BridgeModel, ModelSpec, PointQuantity, SparseVec};
+use crate::physics::bridge::{BridgeModel, ModelSpec};
 use crate::physics::excitation::{AmbientField, AMBIENT_STREAM};
 use crate::physics::road::RoadProfile;
 use crate::physics::solver::{
@@ -34,6 +35,7 @@ pub use condition::{condition_start, ConditionStart};
 use condition::{Condition, SensorTemperature};
 pub use forecast::{forecast, MAX_DRAWN_VEHICLES};
 pub use manifest::manifest;
+use probes::Probes;
 pub use tap::SensorTap;
 use tracking::Tracker;
 
@@ -133,24 +135,6 @@ pub fn prepare(resolved: &Resolved) -> Result<Prepared> {
     })
 }
 
-/// The response quantities at a point from the bridge state, output signs.
-fn quantities(
-    solver: &CoupledSolver,
-    deflection_op: &SparseVec,
-    moment_op: &SparseVec,
-    strain_per_moment: f64,
-) -> Quantities {
-    let s = &solver.bridge.state;
-    let moment_n_m = moment_op.dot(&s.u);
-    Quantities {
-        displacement_m: -deflection_op.dot(&s.u),
-        velocity_m_s: -deflection_op.dot(&s.v),
-        acceleration_m_s2: -deflection_op.dot(&s.a),
-        strain_microstrain: strain_per_moment * moment_n_m,
-        moment_n_m,
-    }
-}
-
 fn solve_mode(spec: &ModelSpec) -> SolveMode {
     match spec {
         // Banded: sparse Cholesky keeps the band, O(n) per solve.
@@ -220,8 +204,7 @@ pub fn run_controlled(
         c.announce_start(model);
     }
     let mut taps = Vec::new();
-    let mut ops = vec![(SparseVec::default(), SparseVec::default(), 0.0); resolved.sensors.len()];
-    sensor_operators(model, resolved, &mut ops);
+    let mut probes = Probes::new(model, resolved);
     for (i, sensor) in resolved.sensors.iter().enumerate() {
         let (channel, clipped) =
             daq::sensor_channel(resolved, sensor, i, sensor_temperature.function())?;
@@ -249,9 +232,6 @@ pub fn run_controlled(
         text: start_text(resolved, model),
     });
     let mut tracker = Tracker::new(resolved, model.length_m())?;
-    let mut shape_ops = vec![SparseVec::default(); model.shape_positions_m().len()];
-    let mut midspan = SparseVec::default();
-    deflection_operators(model, &mut shape_ops, &mut midspan);
     let hint = divergence_hint(&resolved.newmark);
     let mut peak_midspan_m = 0.0f64;
     let mut resyncs = daq::Resyncs::new(resolved);
@@ -287,17 +267,18 @@ pub fn run_controlled(
         let t_ns = step * resolved.dt_ns;
         if let Some(c) = condition.as_mut() {
             if c.advance(step, t_ns, &mut solver, &mut merger.truth)? {
-                // EI changed: the moment and strain operators (and, for lumped masses,
-                // the interpolated deflections) belong to the new model.
-                sensor_operators(&solver.model, resolved, &mut ops);
-                deflection_operators(&solver.model, &mut shape_ops, &mut midspan);
+                // EI changed: the moment, strain and reaction operators (and, for lumped
+                // masses, the interpolated deflections) belong to the new model.
+                probes.rebuild(&solver.model, resolved);
             }
         }
         resyncs.announce_until(t_ns, &mut merger.truth);
-        check_state(&solver, &shape_ops, &hint)?;
-        peak_midspan_m = peak_midspan_m.max(midspan.dot(&solver.bridge.state.u).abs());
-        for (tap, (d, m, k)) in taps.iter_mut().zip(&ops) {
-            tap.push(&quantities(&solver, d, m, *k));
+        check_state(&solver, &probes.shape, &hint)?;
+        peak_midspan_m = peak_midspan_m.max(probes.midspan.dot(&solver.bridge.state.u).abs());
+        let shape_due = step % resolved.bridge_stride == 0;
+        probes.update_reactions(&solver, shape_due);
+        for (i, tap) in taps.iter_mut().enumerate() {
+            tap.push(&probes.quantities(i, &solver));
         }
         if step % resolved.axle_stride == 0 {
             merger.truth.push_back(Record::AxleLoads {
@@ -305,8 +286,9 @@ pub fn run_controlled(
                 axles: tracker.axle_states(&solver, step),
             });
         }
-        if step % resolved.bridge_stride == 0 {
-            let deflection_m = shape_ops
+        if shape_due {
+            let deflection_m = probes
+                .shape
                 .iter()
                 .map(|op| -op.dot(&solver.bridge.state.u))
                 .collect();
@@ -322,6 +304,7 @@ pub fn run_controlled(
                 deflection_m,
                 temperatures_c,
                 modal,
+                support_reaction_n: probes.reaction_n.clone(),
             });
         }
         tracker.observe(&solver, step, &mut merger.truth);
@@ -382,7 +365,6 @@ pub fn run_controlled(
     })
 }
 
-/// Each sensor's (deflection, moment, strain per moment) operators on `model`.
 /// The first line of `/events`: what the run holds, so that a viewer opened at the start
 /// shows it.
 fn start_text(resolved: &Resolved, model: &BridgeModel) -> String {
@@ -412,28 +394,6 @@ fn start_text(resolved: &Resolved, model: &BridgeModel) -> String {
         plural(s.wim_stations.len(), "WIM station", "WIM stations"),
         plural(resolved.vehicles.len(), "vehicle", "vehicles"),
     )
-}
-
-fn sensor_operators(
-    model: &BridgeModel,
-    resolved: &Resolved,
-    ops: &mut [(SparseVec, SparseVec, f64)],
-) {
-    for (sensor, (d, m, strain_per_moment)) in resolved.sensors.iter().zip(ops) {
-        let x = sensor.spec.position_m;
-        model.point_operator(x, PointQuantity::Deflection, d);
-        model.point_operator(x, PointQuantity::Moment, m);
-        // Bending strain at the gauge: eps = M c / EI(x) (sagging M stretches the bottom).
-        *strain_per_moment = 1e6 * sensor.gauge_depth_m / model.beam.ei_at_n_m2(x);
-    }
-}
-
-/// The deflection operators at the shape nodes and at midspan on `model`.
-fn deflection_operators(model: &BridgeModel, shape_ops: &mut [SparseVec], midspan: &mut SparseVec) {
-    for (op, &x) in shape_ops.iter_mut().zip(model.shape_positions_m()) {
-        model.point_operator(x, PointQuantity::Deflection, op);
-    }
-    model.point_operator(0.5 * model.length_m(), PointQuantity::Deflection, midspan);
 }
 
 fn run_progress(

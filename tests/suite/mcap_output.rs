@@ -149,6 +149,8 @@ fn write_fixture<W: Write + Seek>(sink: &mut McapSink<W>) -> Written {
                     acceleration_m_s2: vec![0.5; 100],
                     strain_microstrain: vec![3.0; 100],
                     moment_n_m: vec![1e5; 100],
+                    rotation_rad: Vec::new(),
+                    reaction_n: Vec::new(),
                 }
             );
         }
@@ -198,6 +200,7 @@ fn write_fixture<W: Write + Seek>(sink: &mut McapSink<W>) -> Written {
                     midspan_deflection_m: 1e-3 * x,
                     stiffness_ratio: Vec::new(),
                     air_temperature_c: 18.0,
+                    support_reaction_n: vec![1e5 * (1.0 - x), 1e5 * x],
                     damage_fraction: Vec::new(),
                 }
             );

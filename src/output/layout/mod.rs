@@ -86,6 +86,18 @@ const KINDS: &[Kind] = &[
         field: crate::record::SensorKind::Displacement.value_field(),
         drawn_down: true,
     },
+    Kind {
+        segment: "tilt",
+        title: "Rotation, rad (slope of the downward deflection)",
+        field: crate::record::SensorKind::Inclinometer.value_field(),
+        drawn_down: false,
+    },
+    Kind {
+        segment: "load",
+        title: "Bearing reaction, N (compression positive)",
+        field: crate::record::SensorKind::LoadCell.value_field(),
+        drawn_down: false,
+    },
 ];
 
 /// Schema of a per-sample sensor message (the sample layout and the preview).

@@ -22,7 +22,7 @@ pub use lumped::{
 pub use mesh::{HermiteMesh, PointQuantity};
 pub use model::{BridgeModel, LumpedStiffness, ModelSpec, MAX_ELEMENTS, REPORTED_MODES};
 pub use modes::{generalized_modes, Modes, Rayleigh, Wanted, DENSE_EIGEN_MAX_DOF};
-pub use reactions::ReactionState;
+pub use reactions::{ReactionOperator, ReactionState};
 pub use sparse::SparseVec;
 
 #[cfg(test)]

@@ -173,7 +173,7 @@ impl ModelSpec {
 
 /// How model DOFs relate to the Hermite mesh's DOFs.
 #[derive(Debug, Clone)]
-enum Reduction {
+pub(super) enum Reduction {
     /// The model DOFs are the mesh DOFs (finite elements).
     Identity,
     /// Mesh DOFs = T * model DOFs (condensation for lumped mass, mode shapes for modal).
@@ -200,7 +200,7 @@ pub struct BridgeModel {
     /// True when the mass matrix is diagonal (lumped, modal).
     pub diagonal_mass: bool,
     mesh: HermiteMesh,
-    reduction: Reduction,
+    pub(super) reduction: Reduction,
     eigen_route: EigenRoute,
 }
 
@@ -389,19 +389,6 @@ impl BridgeModel {
     /// The Hermite mesh the model's DOFs map onto.
     pub(super) fn mesh(&self) -> &HermiteMesh {
         &self.mesh
-    }
-
-    /// The value of mesh equation `dof` for a state over the model DOFs.
-    pub(super) fn mesh_dof_value(&self, dof: usize, state: &DVector<f64>) -> f64 {
-        match &self.reduction {
-            Reduction::Identity => state[dof],
-            Reduction::Dense(t) => t
-                .row(dof)
-                .iter()
-                .zip(state.iter())
-                .map(|(a, b)| a * b)
-                .sum(),
-        }
     }
 
     /// Positions where `/truth/bridge` reports the deflected shape (mesh nodes, supports

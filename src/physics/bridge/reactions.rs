@@ -10,7 +10,8 @@ use nalgebra::DVector;
 
 use super::hermite::{element_consistent_mass, element_stiffness, shape};
 use super::mesh::HermiteMesh;
-use super::model::BridgeModel;
+use super::model::{BridgeModel, Reduction};
+use super::sparse::SparseVec;
 
 /// The state of the mesh's DOFs next to the supports, as the model reads it.
 pub struct ReactionState<'a> {
@@ -22,6 +23,151 @@ pub struct ReactionState<'a> {
     pub loads: &'a [(f64, f64)],
 }
 
+/// How one support's reaction is read from the state.
+#[derive(Debug, Clone)]
+enum SupportRow {
+    /// A rigid vertical support at mesh node `node`: `r = k.(u + a1 v) + m.(a + a0 v)`
+    /// minus the wheel loads on the elements either side, distributed by their shape
+    /// functions onto the node's w.
+    Rigid {
+        node: usize,
+        stiffness: SparseVec,
+        mass: SparseVec,
+    },
+    /// An elastic support: its spring force `-k_v w`.
+    Spring { deflection: SparseVec, k_n_m: f64 },
+}
+
+/// The support reactions of a model as operators over its DOFs, built once (per model
+/// build) so that reading them every time step costs a few dot products and no
+/// allocation.
+#[derive(Debug, Clone)]
+pub struct ReactionOperator {
+    rows: Vec<SupportRow>,
+    /// Rayleigh coefficients of the model's damping (`C = a0 M + a1 K`).
+    a0_per_s: f64,
+    a1_s: f64,
+    mesh: HermiteMesh,
+}
+
+impl ReactionOperator {
+    /// The operator of `model`'s supports, in the girder's order.
+    pub fn new(model: &BridgeModel) -> Self {
+        let mesh = model.mesh();
+        let tolerance = 1e-9 * model.length_m();
+        let rows = model
+            .beam
+            .girder
+            .support_positions_m()
+            .iter()
+            .zip(&model.beam.girder.supports)
+            .map(|(&x, support)| {
+                let node = mesh
+                    .node_x_m
+                    .iter()
+                    .position(|&n| (n - x).abs() < tolerance)
+                    .expect("supports are mesh nodes");
+                match support.rigid_vertical() {
+                    false => {
+                        let mut deflection = SparseVec::default();
+                        model.push_mesh_dof(mesh.dof[node][0], 1.0, &mut deflection);
+                        SupportRow::Spring {
+                            deflection,
+                            k_n_m: support.springs().0,
+                        }
+                    }
+                    true => rigid_row(model, node),
+                }
+            })
+            .collect();
+        Self {
+            rows,
+            a0_per_s: model.rayleigh.a0_per_s,
+            a1_s: model.rayleigh.a1_s,
+            mesh: mesh.clone(),
+        }
+    }
+
+    /// Number of supports.
+    pub fn len(&self) -> usize {
+        self.rows.len()
+    }
+
+    /// True for a girder without supports (never built: a girder has at least two).
+    pub fn is_empty(&self) -> bool {
+        self.rows.is_empty()
+    }
+
+    /// The reactions (N, upward positive) into `out` (one per support).
+    pub fn reactions(&self, state: &ReactionState, out: &mut [f64]) {
+        for (row, r) in self.rows.iter().zip(out.iter_mut()) {
+            *r = match row {
+                SupportRow::Spring { deflection, k_n_m } => -k_n_m * deflection.dot(state.u),
+                SupportRow::Rigid {
+                    node,
+                    stiffness,
+                    mass,
+                } => {
+                    let dot =
+                        |op: &SparseVec, x: Option<&DVector<f64>>| x.map_or(0.0, |x| op.dot(x));
+                    let v_k = dot(stiffness, state.v);
+                    let v_m = dot(mass, state.v);
+                    stiffness.dot(state.u)
+                        + self.a1_s * v_k
+                        + dot(mass, state.a)
+                        + self.a0_per_s * v_m
+                        - self.direct_load(*node, state.loads)
+                }
+            };
+        }
+    }
+
+    /// The share of the point loads that the shape functions of the elements either side
+    /// of `node` put on its (constrained) w.
+    fn direct_load(&self, node: usize, loads: &[(f64, f64)]) -> f64 {
+        let mut f = 0.0;
+        for &(x, force) in loads {
+            let (e, xi) = self.mesh.locate(x);
+            let row = match e {
+                e if e + 1 == node => 2,
+                e if e == node => 0,
+                _ => continue,
+            };
+            f += force * shape(xi, self.mesh.elements[e].length_m)[row];
+        }
+        f
+    }
+}
+
+/// The stiffness and mass rows of the constrained w of `node` over the model DOFs, from
+/// the element left of the node (node is its second end: local row 2) and the one right
+/// of it (first end: row 0).
+fn rigid_row(model: &BridgeModel, node: usize) -> SupportRow {
+    let mesh = model.mesh();
+    let mut stiffness = SparseVec::default();
+    let mut mass = SparseVec::default();
+    for (e, row) in [(node.wrapping_sub(1), 2), (node, 0)] {
+        let Some(element) = mesh.elements.get(e) else {
+            continue;
+        };
+        let k = element_stiffness(element.ei_n_m2, element.length_m);
+        let m = element_consistent_mass(element.mass_per_length_kg_m, element.length_m);
+        for col in 0..4 {
+            let dof = mesh.dof[e + col / 2][col % 2];
+            model.push_mesh_dof(dof, k[(row, col)], &mut stiffness);
+            // The lumped model's masses sit off the supports: no inertia of its own.
+            if !model.diagonal_mass {
+                model.push_mesh_dof(dof, m[(row, col)], &mut mass);
+            }
+        }
+    }
+    SupportRow::Rigid {
+        node,
+        stiffness,
+        mass,
+    }
+}
+
 impl BridgeModel {
     /// The vertical reaction of each support (N, upward positive), in the girder's support
     /// order. Damping enters as the model's Rayleigh `a0 M + a1 K`; the lumped model's
@@ -29,69 +175,27 @@ impl BridgeModel {
     /// Exact for finite elements; for a lumped model the field between masses is the
     /// condensation's, which leaves out the local response of a load between two masses
     /// (4e-4 of the load in the equilibrium test), and a modal model's is a truncated
-    /// series.
+    /// series. For every step of a run build a [`ReactionOperator`] once instead.
     pub fn support_reactions(&self, state: &ReactionState) -> Vec<f64> {
-        let mesh = self.mesh();
-        let supports = self.beam.girder.support_positions_m();
-        let tolerance = 1e-9 * self.length_m();
-        supports
-            .iter()
-            .zip(&self.beam.girder.supports)
-            .map(|(&x, support)| {
-                let node = mesh
-                    .node_x_m
-                    .iter()
-                    .position(|&n| (n - x).abs() < tolerance)
-                    .expect("supports are mesh nodes");
-                if !support.rigid_vertical() {
-                    let w = self.mesh_value(node, 0, state.u);
-                    return -support.springs().0 * w;
-                }
-                self.rigid_reaction(mesh, node, state)
-            })
-            .collect()
+        let op = ReactionOperator::new(self);
+        let mut out = vec![0.0; op.len()];
+        op.reactions(state, &mut out);
+        out
     }
 
-    /// `(M a + C v + K u)_s - f_s` at the constrained w of `node`.
-    fn rigid_reaction(&self, mesh: &HermiteMesh, node: usize, state: &ReactionState) -> f64 {
-        let (a0, a1) = (self.rayleigh.a0_per_s, self.rayleigh.a1_s);
-        let consistent = !self.diagonal_mass;
-        let mut r = 0.0;
-        // The element left of the node (node is its second end: local rows 2, 3) and the
-        // one right of it (first end: rows 0, 1); row 0 or 2 is the node's w.
-        for (e, row) in [(node.wrapping_sub(1), 2), (node, 0)] {
-            let Some(element) = mesh.elements.get(e) else {
-                continue;
-            };
-            let k = element_stiffness(element.ei_n_m2, element.length_m);
-            let m = element_consistent_mass(element.mass_per_length_kg_m, element.length_m);
-            let nodes = [e, e + 1];
-            for col in 0..4 {
-                let (n, kind) = (nodes[col / 2], col % 2);
-                let u = self.mesh_value(n, kind, state.u);
-                let v = state.v.map_or(0.0, |v| self.mesh_value(n, kind, v));
-                let a = state.a.map_or(0.0, |a| self.mesh_value(n, kind, a));
-                r += k[(row, col)] * (u + a1 * v);
-                if consistent {
-                    r += m[(row, col)] * (a + a0 * v);
+    /// Appends `weight` times mesh DOF `dof` (a model DOF, or a row of the reduction)
+    /// to `out`; nothing for a constrained DOF.
+    fn push_mesh_dof(&self, dof: Option<usize>, weight: f64, out: &mut SparseVec) {
+        let Some(dof) = dof else {
+            return;
+        };
+        match &self.reduction {
+            Reduction::Identity => out.push(dof, weight),
+            Reduction::Dense(t) => {
+                for (j, value) in t.row(dof).iter().enumerate() {
+                    out.push(j, weight * value);
                 }
             }
-            for &(x, force) in state.loads {
-                let (el, xi) = mesh.locate(x);
-                if el == e {
-                    r -= force * shape(xi, element.length_m)[row];
-                }
-            }
-        }
-        r
-    }
-
-    /// The mesh DOF `kind` (0: w, 1: theta) of `node` for a state over the model DOFs;
-    /// zero where the DOF is constrained.
-    fn mesh_value(&self, node: usize, kind: usize, state: &DVector<f64>) -> f64 {
-        match self.mesh().dof[node][kind] {
-            Some(dof) => self.mesh_dof_value(dof, state),
-            None => 0.0,
         }
     }
 }

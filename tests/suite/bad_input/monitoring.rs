@@ -22,6 +22,20 @@ pub(super) fn monitoring_cases() -> Vec<Case> {
             &["sensors.7[S1].preset", "mems_lownoise"],
         ),
         Case::edit(
+            "load cell off a support",
+            &[Set("sensors.0.kind", "\"load_cell\"")],
+            &[
+                "sensors.0[A1].position_m = ",
+                "is not on a support",
+                "[0, 30] m",
+            ],
+        ),
+        Case::edit(
+            "inclinometer preset on an accelerometer",
+            &[Set("sensors.0.preset", "\"inclinometer_mems\"")],
+            &["sensors.0[A1].preset = inclinometer_mems is a preset for inclinometer"],
+        ),
+        Case::edit(
             "negative chain noise density",
             &[LOWNOISE, Set("sensors.0.chain.noise_density", "-1.0")],
             &["sensors.0[A1].chain.noise_density = -1"],

@@ -12,6 +12,14 @@ pub const SCHEMA_ACCEPTS: &[(&str, &str)] = &[
     // kind of sensor, a preset, the other band limit).
     ("sensor beyond the span", "the bound is bridge.span_m"),
     (
+        "load cell off a support",
+        "the supports' positions follow from bridge.spans_m",
+    ),
+    (
+        "inclinometer preset on an accelerometer",
+        "the preset's kind must match the sensor's kind",
+    ),
+    (
         "stiffness region beyond the span",
         "the bound is bridge.span_m",
     ),

@@ -28,13 +28,16 @@ const MILLI_G: f64 = 1e-3 * G;
 const MICRO_G: f64 = 1e-6 * G;
 
 /// What a sensor measures, which decides the unit of every chain parameter:
-/// m/s^2 for accelerometers, microstrain for strain gauges, m for displacement.
+/// m/s^2 for accelerometers, microstrain for strain gauges, m for displacement, rad for
+/// inclinometers, N for load cells.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum TransducerKind {
     Accelerometer,
     Strain,
     Displacement,
+    Inclinometer,
+    LoadCell,
 }
 
 impl TransducerKind {
@@ -45,10 +48,13 @@ impl TransducerKind {
             "accelerometer" => Ok(Self::Accelerometer),
             "strain" => Ok(Self::Strain),
             "displacement" => Ok(Self::Displacement),
+            "inclinometer" => Ok(Self::Inclinometer),
+            "load_cell" => Ok(Self::LoadCell),
             _ => Err(Error::invalid(
                 field,
                 name,
-                "is not a sensor kind (accelerometer, strain, displacement)",
+                "is not a sensor kind (accelerometer, strain, displacement, inclinometer, \
+                 load_cell)",
             )),
         }
     }
@@ -59,6 +65,8 @@ impl TransducerKind {
             Self::Accelerometer => "accelerometer",
             Self::Strain => "strain",
             Self::Displacement => "displacement",
+            Self::Inclinometer => "inclinometer",
+            Self::LoadCell => "load_cell",
         }
     }
 }
@@ -81,6 +89,10 @@ pub enum SensorPreset {
     MemsConsumer,
     /// Foil strain gauge in a quarter bridge on a 24-bit DAQ.
     StrainFoil,
+    /// MEMS inclinometer at a bearing, Murata SCL3300 class.
+    InclinometerMems,
+    /// 5 MN strain-gauge load cell under a bearing, on a 24-bit bridge amplifier.
+    LoadCellBearing,
 }
 
 impl fmt::Display for SensorPreset {
@@ -156,13 +168,15 @@ pub struct ChainParameters {
 
 impl SensorPreset {
     /// Every preset, in declaration order.
-    pub const ALL: [SensorPreset; 6] = [
+    pub const ALL: [SensorPreset; 8] = [
         Self::Ideal,
         Self::MemsLownoise,
         Self::PiezoSeismic,
         Self::ForceBalance,
         Self::MemsConsumer,
         Self::StrainFoil,
+        Self::InclinometerMems,
+        Self::LoadCellBearing,
     ];
 
     /// The snake_case name, as in a scenario.
@@ -174,6 +188,8 @@ impl SensorPreset {
             Self::ForceBalance => "force_balance",
             Self::MemsConsumer => "mems_consumer",
             Self::StrainFoil => "strain_foil",
+            Self::InclinometerMems => "inclinometer_mems",
+            Self::LoadCellBearing => "load_cell_bearing",
         }
     }
 
@@ -182,6 +198,8 @@ impl SensorPreset {
         match self {
             Self::Ideal => None,
             Self::StrainFoil => Some(TransducerKind::Strain),
+            Self::InclinometerMems => Some(TransducerKind::Inclinometer),
+            Self::LoadCellBearing => Some(TransducerKind::LoadCell),
             _ => Some(TransducerKind::Accelerometer),
         }
     }
@@ -213,6 +231,8 @@ impl SensorPreset {
             Self::ForceBalance => force_balance(),
             Self::MemsConsumer => mems_consumer(),
             Self::StrainFoil => strain_foil(),
+            Self::InclinometerMems => inclinometer_mems(),
+            Self::LoadCellBearing => load_cell_bearing(),
         }
     }
 }
@@ -361,6 +381,65 @@ fn strain_foil() -> ChainParameters {
     }
 }
 
+/// Murata SCL3300-D01 class MEMS inclinometer (data sheet features; sister die SCA3300
+/// data sheet Doc.No. 3165 rev. 3, table 2): 0.001 deg/sqrt(Hz) = 1.75e-5 rad/sqrt(Hz);
+/// offset change over -40..+125 degC +/-10 mg = 0.57 deg (3 sigma) over about 100 K:
+/// 3.3e-5 rad/degC as sigma, here the tempco of a typical unit (estimate); sensitivity
+/// +/-0.7 % (3 sigma): 0.23 %; zeroed at installation, residual bias sigma 1e-4 rad
+/// (0.005 deg, the accuracy of packaged MEMS tiltmeters: Worldsensing Tilt90 data sheet);
+/// output data rate 2000 Hz. The angle output is 16 bits over +/-180 deg (0.0055 deg =
+/// 9.6e-5 rad per LSB): a bearing's rotation under traffic (1e-4 rad) spans about one
+/// LSB, which is what such a sensor records (a staircase that averaging over minutes
+/// resolves). 1/f corner 0.02 Hz (estimate: no data sheet figure).
+fn inclinometer_mems() -> ChainParameters {
+    const DEG: f64 = std::f64::consts::PI / 180.0;
+    ChainParameters {
+        coupling: Coupling::Dc {
+            bias: Draw::Normal { sigma: 1e-4 },
+            bias_tempco_per_degc: 3.3e-5,
+        },
+        gain_error: Draw::Normal { sigma: 0.0023 },
+        noise_density: 0.001 * DEG,
+        flicker_corner_hz: 0.02,
+        flicker_lowest_hz: DEFAULT_FLICKER_LOWEST_HZ,
+        hum: None,
+        adc: Some(AdcParameters {
+            bits: 16,
+            range: 180.0 * DEG,
+        }),
+        max_rate_hz: Some(2000.0),
+    }
+}
+
+/// A 5 MN strain-gauge compression load cell under a bearing (2 mV/V), on a 24-bit
+/// delta-sigma bridge amplifier. Zero tempco: modern cells below 0.05 % of full scale per
+/// 10 K (HBM, "temperature coefficient of the zero point"): 250 N/degC as a limit, 125
+/// as a typical unit (estimate). Noise: TI ADS1232 application example, about 18 nV rms
+/// at 10 samples/s on a 10 mV full-scale signal, 1.8e-6 of full scale: 9 N rms over
+/// about 5 Hz, 4 N/sqrt(Hz). Calibrated sensitivity sigma 0.1 % (precision cells
+/// +/-0.1..0.2 %); zeroed under dead load at installation, residual zero sigma 0.05 % of
+/// full scale, 2.5 kN (creep and drift; estimate). ADC 24 bits over +/-5 MN (0.6 N per
+/// LSB). Maximum rate 1000 Hz (bridge amplifiers of the HBM QuantumX class sample up to
+/// 19.2 kHz; the cell's own bandwidth, estimate). 1/f corner 0.05 Hz (estimate).
+fn load_cell_bearing() -> ChainParameters {
+    ChainParameters {
+        coupling: Coupling::Dc {
+            bias: Draw::Normal { sigma: 2.5e3 },
+            bias_tempco_per_degc: 125.0,
+        },
+        gain_error: Draw::Normal { sigma: 0.001 },
+        noise_density: 4.0,
+        flicker_corner_hz: 0.05,
+        flicker_lowest_hz: DEFAULT_FLICKER_LOWEST_HZ,
+        hum: None,
+        adc: Some(AdcParameters {
+            bits: 24,
+            range: 5e6,
+        }),
+        max_rate_hz: Some(1000.0),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -380,11 +459,13 @@ mod tests {
     fn presets_are_for_their_kind_only() {
         use TransducerKind::*;
         for p in SensorPreset::ALL {
-            for kind in [Accelerometer, Strain, Displacement] {
+            for kind in [Accelerometer, Strain, Displacement, Inclinometer, LoadCell] {
                 let ok = p.check_kind(kind, "sensors.0.preset").is_ok();
                 let expected = match p {
                     SensorPreset::Ideal => true,
                     SensorPreset::StrainFoil => kind == Strain,
+                    SensorPreset::InclinometerMems => kind == Inclinometer,
+                    SensorPreset::LoadCellBearing => kind == LoadCell,
                     _ => kind == Accelerometer,
                 };
                 assert_eq!(ok, expected, "{p} on {kind:?}");
@@ -406,6 +487,8 @@ mod tests {
             TransducerKind::Accelerometer,
             TransducerKind::Strain,
             TransducerKind::Displacement,
+            TransducerKind::Inclinometer,
+            TransducerKind::LoadCell,
         ] {
             assert_eq!(TransducerKind::parse(kind.name(), "k").ok(), Some(kind));
         }
