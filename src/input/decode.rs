@@ -379,6 +379,8 @@ fn bridge(table: &mut TableBuilder, log: i64, m: &BridgeState) -> Result<(), Str
     table.f64("air_temperature_c", m.air_temperature_c);
     table.f64_list("damage_fraction", &m.damage_fraction);
     table.f64_list("support_reaction_n", &m.support_reaction_n);
+    table.f64_list("support_stiffness_ratio", &m.support_stiffness_ratio);
+    table.f64_list("support_settlement_m", &m.support_settlement_m);
     // Mode shapes come in the first message only: one list per field, empty afterwards.
     let modes: Vec<u32> = m.mode_shapes.iter().map(|s| s.mode_number).collect();
     table.u32_list("mode_shapes.mode_number", &modes);

@@ -26,7 +26,8 @@ struct Run {
     channels: Channels,
     start_time_ns: u64,
     shape_position_m: Vec<f64>,
-    span_m: f64,
+    /// Where `midspan_deflection_m` is read: the middle of the longest span (m).
+    midspan_m: f64,
     /// Block layout: sensor samples go into blocks, every record through `reorder`.
     blocked: bool,
     /// The 3D scene, if the run writes it.
@@ -347,7 +348,7 @@ impl<'a, W: Write + Seek> McapRecorder<'a, W> {
                 support_reaction_n,
                 ..
             } => {
-                let midspan = interpolate(&run.shape_position_m, &deflection_m, run.span_m / 2.0);
+                let midspan = interpolate(&run.shape_position_m, &deflection_m, run.midspan_m);
                 let (temperature_c, air_temperature_c) = temperatures_c.unwrap_or_default();
                 let scene = run.scene.as_ref().and_then(|scene| {
                     let due = scene
@@ -370,6 +371,8 @@ impl<'a, W: Write + Seek> McapRecorder<'a, W> {
                     msg.damping_ratio = modal.damping_ratio;
                     msg.stiffness_ratio = modal.stiffness_ratio;
                     msg.damage_fraction = modal.damage_fraction;
+                    msg.support_stiffness_ratio = modal.support_stiffness_ratio;
+                    msg.support_settlement_m = modal.support_settlement_m;
                 }
                 msg.support_reaction_n = support_reaction_n;
                 let channel = ch.bridge;
@@ -498,7 +501,7 @@ impl<W: Write + Seek> Recorder for McapRecorder<'_, W> {
             channels,
             start_time_ns: manifest.run.start_time_ns,
             shape_position_m: manifest.bridge.shape_position_m.clone(),
-            span_m: manifest.bridge.length_m,
+            midspan_m: manifest.bridge.midspan_m(),
             blocked: manifest.layout == Layout::Block,
             scene: SceneGeometry::new(manifest).map(|geometry| SceneState {
                 geometry,

@@ -62,6 +62,20 @@ pub struct BridgeSummary {
     pub temperatures_c: Option<(f64, f64)>,
 }
 
+impl BridgeSummary {
+    /// The middle of the longest span (m from the left end); of the girder for one span.
+    pub fn midspan_m(&self) -> f64 {
+        let Some(layout) = &self.layout else {
+            return 0.5 * self.length_m;
+        };
+        layout
+            .support_position_m
+            .windows(2)
+            .max_by(|a, b| (a[1] - a[0]).total_cmp(&(b[1] - b[0])))
+            .map_or(0.5 * self.length_m, |w| 0.5 * (w[0] + w[1]))
+    }
+}
+
 /// Spans and supports of a continuous girder.
 #[derive(Debug, Clone, PartialEq)]
 pub struct GirderSummary {

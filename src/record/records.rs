@@ -60,6 +60,10 @@ pub struct ModalRecord {
     pub stiffness_ratio: Vec<f64>,
     /// Fraction of EI lost by each `[[damage]]` entry, scenario order.
     pub damage_fraction: Vec<f64>,
+    /// With `[[support_condition]]`: each support's vertical spring factor and downward
+    /// settlement (m), girder order; empty otherwise.
+    pub support_stiffness_ratio: Vec<f64>,
+    pub support_settlement_m: Vec<f64>,
 }
 
 /// A record with its time.

@@ -94,6 +94,10 @@ pub struct Scenario {
     /// Damaged regions: EI loss with an onset time and a growth law.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub damage: Vec<crate::physics::environment::DamageSpec>,
+    /// Changes of the supports' condition: bearing degradation, scour, settlement, each
+    /// with an onset time and a growth law.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub support_condition: Vec<crate::physics::environment::SupportConditionSpec>,
     /// Message layout, truth-stream rates and file splitting.
     #[serde(default)]
     pub output: OutputSection,

@@ -393,13 +393,35 @@ impl Scenario {
         }
     }
 
-    /// `[environment]` and `[[damage]]`: each field, the regions on the span, and a model
+    /// `[environment]`, `[[damage]]` and `[[support_condition]]`: each field, the regions
+    /// on the span, the supports named, and a model
     /// that can be rebuilt for a local EI change.
     fn validate_condition(&self) -> Result<()> {
         if let Some(environment) = &self.environment {
             environment.validate("environment")?;
         }
         crate::physics::environment::validate_damage(&self.damage, self.bridge.length_m())?;
+        crate::physics::environment::validate_support_conditions(
+            &self.support_condition,
+            &self.bridge.girder(),
+        )?;
+        if let (ModelSpec::Modal { .. }, Some(i)) = (
+            &self.bridge.model,
+            self.support_condition
+                .iter()
+                .position(|c| c.changes_stiffness()),
+        ) {
+            // As for damage: the support's stiffness shapes the modes.
+            return Err(Error::invalid(
+                "bridge.model",
+                self.bridge.model.label(),
+                format!(
+                    "a modal model cannot follow support_condition.{i} (a support's \
+                     stiffness changes the mode shapes): use kind = \"finite_element\" \
+                     or \"lumped_mass\""
+                ),
+            ));
+        }
         if !self.damage.is_empty() {
             if let ModelSpec::Modal { .. } = self.bridge.model {
                 // A local EI loss changes the mode shapes: the modal coordinates of the

@@ -47,7 +47,7 @@ pub struct ConditionStart {
 /// without either (EI is then the scenario's for the whole run).
 pub fn condition_start(resolved: &Resolved) -> Result<Option<ConditionStart>> {
     let s = &resolved.scenario;
-    if s.environment.is_none() && s.damage.is_empty() {
+    if s.environment.is_none() && s.damage.is_empty() && s.support_condition.is_empty() {
         return Ok(None);
     }
     let spec = s.environment.clone().unwrap_or_default();
@@ -59,7 +59,13 @@ pub fn condition_start(resolved: &Resolved) -> Result<Option<ConditionStart>> {
         std::path::Path::new(""),
         child_rng(s.seed, "environment/temperature"),
     )?;
-    let mut environment = EnvironmentModel::new(&spec, &s.damage, s.bridge.length_m(), air)?;
+    let mut environment = EnvironmentModel::new(
+        &spec,
+        &s.damage,
+        &s.support_condition,
+        &s.bridge.girder(),
+        air,
+    )?;
     let state = environment.state_at(0.0);
     Ok(Some(ConditionStart { environment, state }))
 }
@@ -106,6 +112,10 @@ pub(super) struct Condition {
     /// The modal record waiting for the next deflected shape.
     pending_modal: Option<Box<ModalRecord>>,
     pub(super) rebuilds: u64,
+    /// The run has `[[support_condition]]`: the modal records carry the supports' state.
+    with_supports: bool,
+    /// The settlements of the last modal record (m).
+    published_settlement_m: Vec<f64>,
 }
 
 impl Condition {
@@ -139,7 +149,14 @@ impl Condition {
             sensor_temperature,
             pending_modal: None,
             rebuilds: 0,
+            with_supports: !s.support_condition.is_empty(),
+            published_settlement_m: start.state.supports.settlement_m.clone(),
         }
+    }
+
+    /// The supports' downward settlements now (m, girder order).
+    pub(super) fn settlement_m(&self) -> &[f64] {
+        &self.now.supports.settlement_m
     }
 
     /// The modal record of the model the run starts with, for the first shape.
@@ -190,21 +207,34 @@ impl Condition {
             self.built.clone_from(&self.now);
             self.rebuilds += 1;
         }
-        if rebuild || step.is_multiple_of(self.publish_stride) {
+        // A settlement needs no rebuild, but its progress is announced on the same rule.
+        let settled = self.policy.moved(
+            &self.published_settlement_m,
+            &self.now.supports.settlement_m,
+        );
+        if rebuild || settled || step.is_multiple_of(self.publish_stride) {
             self.pending_modal = Some(Box::new(self.record(&solver.model)));
+            self.published_settlement_m
+                .clone_from(&self.now.supports.settlement_m);
         }
         Ok(rebuild)
     }
 
     /// The modal record of the running model.
     fn record(&self, model: &BridgeModel) -> ModalRecord {
-        modal_record(model, &self.base, &self.now)
+        modal_record(model, &self.base, &self.now, self.with_supports)
     }
 }
 
 /// The model's modal state and EI over its nominal value at the midpoint of each interval
 /// between the shape nodes (temperature and damage together).
-fn modal_record(model: &BridgeModel, base: &BeamProperties, state: &StiffnessState) -> ModalRecord {
+/// With `with_supports` (a run with `[[support_condition]]`) the supports' state too.
+fn modal_record(
+    model: &BridgeModel,
+    base: &BeamProperties,
+    state: &StiffnessState,
+    with_supports: bool,
+) -> ModalRecord {
     let (natural_frequency_hz, damping_ratio) = model.modal_summary(PUBLISHED_MODES);
     let nodes = model.shape_positions_m();
     let stiffness_ratio = nodes
@@ -214,10 +244,24 @@ fn modal_record(model: &BridgeModel, base: &BeamProperties, state: &StiffnessSta
             model.beam.ei_at_n_m2(x) / base.ei_at_n_m2(x)
         })
         .collect();
+    let (support_stiffness_ratio, support_settlement_m) = match with_supports {
+        true => (
+            state
+                .supports
+                .stiffness_factor
+                .iter()
+                .map(|f| f.0)
+                .collect(),
+            state.supports.settlement_m.clone(),
+        ),
+        false => (Vec::new(), Vec::new()),
+    };
     ModalRecord {
         natural_frequency_hz,
         damping_ratio,
         stiffness_ratio,
         damage_fraction: state.damage_fraction.clone(),
+        support_stiffness_ratio,
+        support_settlement_m,
     }
 }

@@ -166,6 +166,8 @@ pub fn forecast(resolved: &Resolved, prepared: &Prepared) -> Result<RecordForeca
         damping_ratio: damping.clone(),
         stiffness_ratio: vec![0.99; nodes.saturating_sub(1)],
         damage_fraction: vec![0.1; s.damage.len()],
+        support_stiffness_ratio: vec![0.9; supports * usize::from(!s.support_condition.is_empty())],
+        support_settlement_m: vec![1e-3; supports * usize::from(!s.support_condition.is_empty())],
     };
     let rest_shapes = ((rest_s / (resolved.bridge_stride as f64 * resolved.dt_s)).floor()
         + f64::from(rest_s > 0.0))

@@ -205,6 +205,9 @@ pub fn run_controlled(
     }
     let mut taps = Vec::new();
     let mut probes = Probes::new(model, resolved);
+    if let Some(c) = condition.as_ref() {
+        probes.settle(model, resolved, c.settlement_m())?;
+    }
     for (i, sensor) in resolved.sensors.iter().enumerate() {
         let (channel, clipped) =
             daq::sensor_channel(resolved, sensor, i, sensor_temperature.function())?;
@@ -269,8 +272,9 @@ pub fn run_controlled(
             if c.advance(step, t_ns, &mut solver, &mut merger.truth)? {
                 // EI changed: the moment, strain and reaction operators (and, for lumped
                 // masses, the interpolated deflections) belong to the new model.
-                probes.rebuild(&solver.model, resolved);
+                probes.rebuild(&solver.model, resolved)?;
             }
+            probes.settle(&solver.model, resolved, c.settlement_m())?;
         }
         resyncs.announce_until(t_ns, &mut merger.truth);
         check_state(&solver, &probes.shape, &hint)?;
@@ -287,11 +291,7 @@ pub fn run_controlled(
             });
         }
         if shape_due {
-            let deflection_m = probes
-                .shape
-                .iter()
-                .map(|op| -op.dot(&solver.bridge.state.u))
-                .collect();
+            let deflection_m = probes.deflected_shape(&solver);
             let (temperatures_c, modal) = match condition.as_mut() {
                 Some(c) => {
                     let (temperatures, modal) = c.for_shape();

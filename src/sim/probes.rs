@@ -1,9 +1,11 @@
 //! What the time loop reads off the bridge each step: every sensor's point operators,
-//! the deflected shape's nodes, midspan, and the support reactions. All are built once
-//! per model (and again after a rebuild), so reading them allocates nothing.
+//! the deflected shape's nodes, midspan, the support reactions, and the static effect of
+//! settled supports added to them. All are built once per model (and again after a
+//! rebuild), so reading them allocates nothing.
 
+use crate::error::Result;
 use crate::physics::bridge::{
-    BridgeModel, PointQuantity, ReactionOperator, ReactionState, SparseVec,
+    BridgeModel, PointQuantity, ReactionOperator, ReactionState, SettlementField, SparseVec,
 };
 use crate::physics::solver::CoupledSolver;
 use crate::record::{Quantities, SensorKind};
@@ -20,6 +22,19 @@ struct SensorProbe {
     /// The support a load cell sits on (index in the girder's order).
     support: Option<usize>,
     inclinometer: bool,
+    /// The settlements' static (displacement m downward, rotation rad, moment N m) here.
+    settled: (f64, f64, f64),
+}
+
+/// The supports' settlements now and their static effect.
+struct Settlement {
+    field: SettlementField,
+    /// Downward settlement of each support (m).
+    now_m: Vec<f64>,
+    /// Downward displacement at each shape node (m).
+    shape_m: Vec<f64>,
+    /// Reaction of each support (N, upward on the girder).
+    reaction_n: Vec<f64>,
 }
 
 /// The operators of a run on its running model.
@@ -27,7 +42,7 @@ pub(super) struct Probes {
     sensors: Vec<SensorProbe>,
     /// Deflection at each shape node (`/truth/bridge`).
     pub(super) shape: Vec<SparseVec>,
-    /// Deflection at the middle of the girder (the run summary's peak).
+    /// Deflection at the middle of the longest span (the run summary's peak).
     pub(super) midspan: SparseVec,
     reactions: ReactionOperator,
     /// Whether a load cell reads the reactions every step (else only with the shapes).
@@ -35,8 +50,9 @@ pub(super) struct Probes {
     /// The wheel loads on the girder this step: (x m, force N upward positive).
     loads: Vec<(f64, f64)>,
     /// The support reactions at the last [`Probes::update_reactions`] (N, upward on the
-    /// girder).
+    /// girder), settlements included.
     pub(super) reaction_n: Vec<f64>,
+    settlement: Option<Settlement>,
 }
 
 impl Probes {
@@ -70,14 +86,24 @@ impl Probes {
             loads: Vec::new(),
             reaction_n: vec![0.0; reactions.len()],
             reactions,
+            settlement: None,
         };
-        probes.rebuild(model, resolved);
+        probes.operators(model, resolved);
         probes
     }
 
-    /// Rebuilds every operator on `model` (after a model rebuild: EI moved, so the
-    /// moment, strain and reaction operators and a lumped model's interpolation did).
-    pub(super) fn rebuild(&mut self, model: &BridgeModel, resolved: &Resolved) {
+    /// Rebuilds every operator on `model` (after a model rebuild: EI or a spring moved,
+    /// so the moment, strain and reaction operators, a lumped model's interpolation and
+    /// the settlements' static field did).
+    pub(super) fn rebuild(&mut self, model: &BridgeModel, resolved: &Resolved) -> Result<()> {
+        self.operators(model, resolved);
+        if let Some(now) = self.settlement.take().map(|s| s.now_m) {
+            self.settle(model, resolved, &now)?;
+        }
+        Ok(())
+    }
+
+    fn operators(&mut self, model: &BridgeModel, resolved: &Resolved) {
         for (probe, sensor) in self.sensors.iter_mut().zip(&resolved.sensors) {
             let x = sensor.spec.position_m;
             model.point_operator(x, PointQuantity::Deflection, &mut probe.deflection);
@@ -90,12 +116,48 @@ impl Probes {
         for (op, &x) in self.shape.iter_mut().zip(model.shape_positions_m()) {
             model.point_operator(x, PointQuantity::Deflection, op);
         }
-        model.point_operator(
-            0.5 * model.length_m(),
-            PointQuantity::Deflection,
-            &mut self.midspan,
-        );
+        let middle = longest_span_middle_m(model);
+        model.point_operator(middle, PointQuantity::Deflection, &mut self.midspan);
         self.reactions = ReactionOperator::new(model);
+    }
+
+    /// Takes the supports' downward settlements `settlement_m` (girder order): their
+    /// static effect is added to every reading from now on. Free when nothing moved.
+    pub(super) fn settle(
+        &mut self,
+        model: &BridgeModel,
+        resolved: &Resolved,
+        settlement_m: &[f64],
+    ) -> Result<()> {
+        let unchanged = match &self.settlement {
+            Some(s) => s.now_m == settlement_m,
+            None => settlement_m.iter().all(|&d| d == 0.0),
+        };
+        if unchanged {
+            return Ok(());
+        }
+        let field = match self.settlement.take() {
+            Some(s) => s.field,
+            None => SettlementField::new(model)?,
+        };
+        let values = field.node_values(settlement_m);
+        for (probe, sensor) in self.sensors.iter_mut().zip(&resolved.sensors) {
+            let x = sensor.spec.position_m;
+            probe.settled = (
+                -field.read(&values, x, PointQuantity::Deflection),
+                -field.read(&values, x, PointQuantity::Slope),
+                field.read(&values, x, PointQuantity::Moment),
+            );
+        }
+        let mut reaction_n = vec![0.0; self.reaction_n.len()];
+        field.reactions(settlement_m, &mut reaction_n);
+        self.settlement = Some(Settlement {
+            shape_m: values.iter().map(|v| -v[0]).collect(),
+            now_m: settlement_m.to_vec(),
+            reaction_n,
+            field,
+        });
+        Ok(())
     }
 
     /// Reads the support reactions of the solver's state now, when a load cell needs
@@ -124,6 +186,21 @@ impl Probes {
             loads: &self.loads,
         };
         self.reactions.reactions(&state, &mut self.reaction_n);
+        if let Some(settled) = &self.settlement {
+            for (r, s) in self.reaction_n.iter_mut().zip(&settled.reaction_n) {
+                *r += s;
+            }
+        }
+    }
+
+    /// The deflected shape now (m, downward positive at each shape node).
+    pub(super) fn deflected_shape(&self, solver: &CoupledSolver) -> Vec<f64> {
+        let u = &solver.bridge.state.u;
+        let dynamic = self.shape.iter().map(|op| -op.dot(u));
+        match &self.settlement {
+            Some(s) => dynamic.zip(&s.shape_m).map(|(d, s)| d + s).collect(),
+            None => dynamic.collect(),
+        }
     }
 
     /// Sensor `i`'s response quantities now, output signs (downward deflection: the model
@@ -131,9 +208,10 @@ impl Probes {
     pub(super) fn quantities(&self, i: usize, solver: &CoupledSolver) -> Quantities {
         let probe = &self.sensors[i];
         let s = &solver.bridge.state;
-        let moment_n_m = probe.moment.dot(&s.u);
+        let (settled_m, settled_rad, settled_n_m) = probe.settled;
+        let moment_n_m = probe.moment.dot(&s.u) + settled_n_m;
         Quantities {
-            displacement_m: -probe.deflection.dot(&s.u),
+            displacement_m: -probe.deflection.dot(&s.u) + settled_m,
             velocity_m_s: -probe.deflection.dot(&s.v),
             acceleration_m_s2: -probe.deflection.dot(&s.a),
             strain_microstrain: probe.strain_per_moment * moment_n_m,
@@ -141,10 +219,19 @@ impl Probes {
             // Only an inclinometer's truth carries its rotation: a column of it on every
             // sensor would grow every truth stream by a sixth for nobody.
             rotation_rad: match probe.inclinometer {
-                true => -probe.slope.dot(&s.u),
+                true => -probe.slope.dot(&s.u) + settled_rad,
                 false => 0.0,
             },
             reaction_n: probe.support.map_or(0.0, |k| self.reaction_n[k]),
         }
     }
+}
+
+/// The middle of the girder's longest span (the middle of the girder for one span).
+fn longest_span_middle_m(model: &BridgeModel) -> f64 {
+    let supports = model.beam.girder.support_positions_m();
+    supports
+        .windows(2)
+        .max_by(|a, b| (a[1] - a[0]).total_cmp(&(b[1] - b[0])))
+        .map_or(0.5 * model.length_m(), |w| 0.5 * (w[0] + w[1]))
 }

@@ -116,3 +116,18 @@ pub fn simulate_file(scenario: Option<&Path>, out: &Path, duration_s: f64) {
         String::from_utf8_lossy(&output.stderr)
     );
 }
+
+/// (t ns, support reactions) of every `/truth/bridge` shape record.
+pub fn shape_reactions(records: &[Record]) -> Vec<(u64, Vec<f64>)> {
+    records
+        .iter()
+        .filter_map(|r| match r {
+            Record::BridgeShape {
+                t_ns,
+                support_reaction_n,
+                ..
+            } => Some((*t_ns, support_reaction_n.clone())),
+            _ => None,
+        })
+        .collect()
+}

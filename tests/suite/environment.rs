@@ -5,7 +5,9 @@
 use std::f64::consts::{PI, TAU};
 use std::path::Path;
 
-use bridgetwin::physics::bridge::{BeamProperties, BridgeModel, ModelSpec, StiffnessRegion};
+use bridgetwin::physics::bridge::{
+    BeamProperties, BridgeModel, Girder, ModelSpec, StiffnessRegion,
+};
 use bridgetwin::physics::environment::{
     damage_events, validate_damage, AirTemperature, DailySpec, DamageSpec, EnvironmentModel,
     EnvironmentSpec, Growth, OrnsteinUhlenbeck, RebuildPolicy, StiffnessState, TemperatureSpec,
@@ -96,7 +98,8 @@ fn default_environment_leaves_the_beam_unchanged() {
     // Constant 20 degC = the default reference temperature: factor exactly 1, no regions.
     let spec = EnvironmentSpec::default();
     let air = AirTemperature::new(&spec.temperature, 0.0, Path::new("."), rng(1)).unwrap();
-    let mut env = EnvironmentModel::new(&spec, &[], 30.0, air).unwrap();
+    let mut env =
+        EnvironmentModel::new(&spec, &[], &[], &Girder::simply_supported(30.0), air).unwrap();
     let base = BeamProperties::paper_default();
     for t_s in [0.0, 10.0, 1e5] {
         let state = env.state_at(t_s);
@@ -562,6 +565,7 @@ fn state(global_factor: f64, regions: Vec<StiffnessRegion>) -> StiffnessState {
         temperature_air_c: 0.0,
         temperature_structure_c: 0.0,
         damage_fraction,
+        supports: Default::default(),
     }
 }
 
@@ -646,8 +650,14 @@ fn local_damage_lowers_f1_as_the_stepped_beam_predicts() {
             growth: Growth::Step,
         }];
         let spec = EnvironmentSpec::default();
-        let mut env =
-            EnvironmentModel::new(&spec, &damage, 30.0, AirTemperature::constant(20.0)).unwrap();
+        let mut env = EnvironmentModel::new(
+            &spec,
+            &damage,
+            &[],
+            &Girder::simply_supported(30.0),
+            AirTemperature::constant(20.0),
+        )
+        .unwrap();
         let beam = env.state_at(1.0).beam_at(&base);
         let f = f1_hz(&beam);
         // The same region written by hand: the model's own eigen-analysis, same number.
@@ -746,8 +756,14 @@ fn cold_snap_and_damage_drive_state_and_rebuilds() {
         onset_s: 1800.0,
         growth: Growth::Step,
     }];
-    let mut env =
-        EnvironmentModel::new(&spec, &damage, 30.0, AirTemperature::from_table(table)).unwrap();
+    let mut env = EnvironmentModel::new(
+        &spec,
+        &damage,
+        &[],
+        &Girder::simply_supported(30.0),
+        AirTemperature::from_table(table),
+    )
+    .unwrap();
     let start = env.state_at(0.0);
     assert_eq!(start.temperature_structure_c, 20.0);
     assert_eq!(start.global_factor, 1.0);

@@ -5,7 +5,7 @@
 use bridgetwin::record::AxleState;
 use bridgetwin::sim::Record;
 
-use crate::common::{records_of, sensor_samples};
+use crate::common::{records_of, sensor_samples, shape_reactions as reactions};
 
 /// A moving force of `force_n` crossing a girder at `speed_m_s` from 1 m before it, every
 /// output at the solver's 100 Hz; `bridge` and `sensors` are TOML.
@@ -43,21 +43,6 @@ fn load_cells(positions_m: &[f64]) -> String {
                 "[[sensors]]\nid = \"R{i}\"\nkind = \"load_cell\"\nposition_m = {x}\n\
                  rate_hz = 100.0\nnoise_density = 0.0\n"
             )
-        })
-        .collect()
-}
-
-/// (t ns, support reactions) of every `/truth/bridge` shape.
-fn reactions(records: &[Record]) -> Vec<(u64, Vec<f64>)> {
-    records
-        .iter()
-        .filter_map(|r| match r {
-            Record::BridgeShape {
-                t_ns,
-                support_reaction_n,
-                ..
-            } => Some((*t_ns, support_reaction_n.clone())),
-            _ => None,
         })
         .collect()
 }

@@ -22,6 +22,7 @@ mod environment_run;
 mod estimate;
 mod examples;
 mod foxglove;
+mod girder_conditions;
 mod girder_sensors;
 mod input_decoders;
 mod input_read;

@@ -201,6 +201,8 @@ fn write_fixture<W: Write + Seek>(sink: &mut McapSink<W>) -> Written {
                     stiffness_ratio: Vec::new(),
                     air_temperature_c: 18.0,
                     support_reaction_n: vec![1e5 * (1.0 - x), 1e5 * x],
+                    support_stiffness_ratio: Vec::new(),
+                    support_settlement_m: Vec::new(),
                     damage_fraction: Vec::new(),
                 }
             );

@@ -40,6 +40,8 @@
 //!   and `/truth/bridge`'s `support_reaction_n` (the reactions of the supports, on every
 //!   deflected shape); every other value is unchanged (checked by decoding a run of each
 //!   version), and the sensors' `sign` metadata is per kind.
+//! - every run: the `BridgeState` schema gains `support_stiffness_ratio` and
+//!   `support_settlement_m` (`[[support_condition]]`; empty otherwise); no value changed.
 
 use std::path::Path;
 use std::process::Command;
@@ -52,62 +54,77 @@ const PINNED: &[(&str, f64, &str)] = &[
     (
         "",
         0.0,
-        "8ad141b05e43fd1ba0b81063df013d725aa97f1d24d6d3a635c97765d70382d8",
+        "8cedce4b64ff01f9243741fe096078472fc8295238db955e4b5af25868819da2",
     ),
     (
         "ambient_monitoring",
         20.0,
-        "c5d54b82946cf2a20bee333bacf6b8d19707b580db359b3fbc8f1e6838840f58",
+        "4e89e190c698882fe05efe70179e3ee24af7aa292130bbd3b97715a157d97b96",
     ),
     (
         "ambient_monitoring",
         120.0,
-        "1a69d774ca3f691ee7fc5141e72ec3ee3290922e8958b7689e197fe2d4e129c5",
+        "a7a4eaee2f7bff6b913e732aa05a686d9746c8684a2501c7495077ff4be783c7",
     ),
     (
         "damage_onset",
         20.0,
-        "78201ea8b1f1333ac0142d09d7a2da0991cc67886835d8d8012f085a23ad1528",
+        "b14df13c50a9f021453fe61bbf6f9f0ad641cd95aa47af81cc7adcdc86062f6e",
     ),
     (
         "day_of_traffic",
         20.0,
-        "35a713126a997b7916899dd5f103174a06b93bb5d3c2e700a0a321354e7290a9",
+        "4b11f9770ed5108d52fb221f1c9ef148c909dda1ab84dbd1da6eacf2b55ebfe9",
     ),
     (
         "hour_of_traffic",
         20.0,
-        "d2fd7b3909ba55b6bbfb9e5d1744a6cbb47f5b0914935af75de8cc2cf82715a2",
+        "b4ded41c7ad0ad87bb13308d5088a945dfdae519f96bcd6636cd29b77bfd4717",
     ),
     (
         "hour_of_traffic",
         60.0,
-        "1afffd373c02ee9f2c18ffcb9598969468b12d2239d2e390bb4e5ee14b74b4a6",
+        "874d8a9941a124e80207098ed0fe58c99c6e7987b0d1687fdf4fa3dbbbcf0b1c",
     ),
     (
         "moving_force",
         20.0,
-        "6df4b0025dc223cec1d40ad610bd36c5d515bfcd36124dedb423df7dbd18918e",
+        "4ff79da8b3fd2f68c5ec3d4d50ba0ae6073b212fc7483df2b7d3cf13e8c6676f",
     ),
     (
         "paper_case",
         20.0,
-        "44376d7832770c4cb4bbb377490d50eb663fed920133a4f4648cab57beea9c40",
+        "7d6168a594177bdd3a834f3885ef3579d54d3d2eb69c0900c8de8829138e60fc",
     ),
     (
         "two_trucks",
         20.0,
-        "11f08b5970f29a70a7d1bf5b972c25dd3c43d179ac6c9ffe54bddc9e6ff0c407",
+        "9c177a5ccf8f192a50d37d12fafa17b93c6f658028312d407b192ec885e3f3f7",
     ),
     (
         "two_trucks",
         40.0,
-        "9921d024681632184a6eeba20781a675ad01e535cf0b290efdeba4809987286d",
+        "794da9b1eecfae1411807c2f0ab0c4c77a5f412e91876264d746393540251c4b",
     ),
     (
         "three_span_continuous",
         0.0,
-        "3c9e00e30fdb2e86fd8d6683ab988add3c43a476dc6c08a69771641d6d0efaea",
+        "9d22c5ebc632131939b687cd1c4e7a3b2875083a6d11250860223c495b4ca7af",
+    ),
+    (
+        "two_span_concrete",
+        0.0,
+        "ff2009cf7fde1d61e95caf5ce057dc3e751380e12b2ae9dd5cb797b066ffd9e9",
+    ),
+    (
+        "three_span_concrete",
+        0.0,
+        "d9f72e1214d6db2978e68b6c7c81b1cfadd953b2f85a19eff50c9d5175a5e84c",
+    ),
+    (
+        "steel_composite_three_span",
+        0.0,
+        "af8c6dfa5ebde38b392e59aa82a21dd2d2760095c33142dc72d4bba540a45342",
     ),
 ];
 

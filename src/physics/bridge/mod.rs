@@ -9,6 +9,7 @@ mod mesh;
 mod model;
 mod modes;
 mod reactions;
+mod settlement;
 mod sparse;
 
 pub use beam::{BeamProperties, Section, StiffnessRegion, Varying};
@@ -23,6 +24,7 @@ pub use mesh::{HermiteMesh, PointQuantity};
 pub use model::{BridgeModel, LumpedStiffness, ModelSpec, MAX_ELEMENTS, REPORTED_MODES};
 pub use modes::{generalized_modes, Modes, Rayleigh, Wanted, DENSE_EIGEN_MAX_DOF};
 pub use reactions::{ReactionOperator, ReactionState};
+pub use settlement::SettlementField;
 pub use sparse::SparseVec;
 
 #[cfg(test)]

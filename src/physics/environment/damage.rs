@@ -65,7 +65,7 @@ impl Growth {
         }
     }
 
-    fn validate(&self, path: &str) -> Result<()> {
+    pub(super) fn validate(&self, path: &str) -> Result<()> {
         match *self {
             Growth::Step => Ok(()),
             Growth::Linear { duration_s } => {
@@ -77,7 +77,7 @@ impl Growth {
         }
     }
 
-    fn label(&self) -> String {
+    pub(super) fn label(&self) -> String {
         match *self {
             Growth::Step => "step".into(),
             Growth::Linear { duration_s } => format!("linear over {duration_s} s"),
@@ -172,6 +172,6 @@ pub fn damage_events(damage: &[DamageSpec]) -> Vec<ConditionEvent> {
     events
 }
 
-fn seconds_to_ns(t_s: f64) -> u64 {
+pub(super) fn seconds_to_ns(t_s: f64) -> u64 {
     (t_s * 1e9).round() as u64
 }

@@ -12,6 +12,7 @@ mod damage;
 mod lag;
 mod state;
 mod stiffness_law;
+mod support_condition;
 mod temperature;
 
 use schemars::JsonSchema;
@@ -22,12 +23,16 @@ pub use damage::{damage_events, validate_damage, ConditionEvent, DamageSpec, Gro
 pub use lag::ThermalLag;
 pub use state::{RebuildPolicy, StiffnessState};
 pub use stiffness_law::{TemperatureStiffnessLaw, LAW_RANGE_C};
+pub use support_condition::{
+    support_at, validate_support_conditions, SupportChange, SupportConditionSpec,
+    SupportConditions, SupportState,
+};
 pub use temperature::{
     AirTemperature, DailySpec, OrnsteinUhlenbeck, TemperatureSpec, DAY_S, DEFAULT_AIR_C,
 };
 
 use crate::error::{require_positive, Result};
-use crate::physics::bridge::StiffnessRegion;
+use crate::physics::bridge::{Girder, StiffnessRegion};
 
 /// The scenario's `[environment]` section.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
@@ -98,10 +103,12 @@ pub struct EnvironmentModel {
     lag: ThermalLag,
     law: TemperatureStiffnessLaw,
     damage: Vec<DamageSpec>,
+    supports: SupportConditions,
 }
 
 impl EnvironmentModel {
-    /// Validates `spec` (as `environment`) and `damage` (as `damage.N`, against `span_m`)
+    /// Validates `spec` (as `environment`), `damage` (as `damage.N`, against the
+    /// girder's length) and `supports` (as `support_condition.N`, against its supports)
     /// and starts the structure temperature on its settled value
     /// ([`AirTemperature::settled_structure_c`]), so a run begins without a thermal
     /// transient. Build `air` with [`AirTemperature::new`], its random stream named
@@ -109,17 +116,20 @@ impl EnvironmentModel {
     pub fn new(
         spec: &EnvironmentSpec,
         damage: &[DamageSpec],
-        span_m: f64,
+        supports: &[SupportConditionSpec],
+        girder: &Girder,
         mut air: AirTemperature,
     ) -> Result<Self> {
         spec.validate("environment")?;
-        validate_damage(damage, span_m)?;
+        validate_damage(damage, girder.length_m())?;
+        let supports = SupportConditions::new(supports, girder)?;
         let structure_c = air.settled_structure_c(spec.lag_s);
         Ok(Self {
             air,
             lag: ThermalLag::new(spec.lag_s, structure_c),
             law: spec.stiffness.clone(),
             damage: damage.to_vec(),
+            supports,
         })
     }
 
@@ -132,6 +142,7 @@ impl EnvironmentModel {
             temperature_air_c: 0.0,
             temperature_structure_c: 0.0,
             damage_fraction: Vec::with_capacity(self.damage.len()),
+            supports: SupportState::default(),
         };
         self.update(t_s, &mut state);
         state
@@ -156,10 +167,15 @@ impl EnvironmentModel {
                 ei_factor: 1.0 - loss,
             });
         }
+        self.supports.update(t_s, &mut state.supports);
     }
 
-    /// Damage onsets (and completions of linear growth) for `/events`, sorted by time.
+    /// Damage and support-condition onsets (and completions of linear growth) for
+    /// `/events`, sorted by time (damage first at equal times, each in scenario order).
     pub fn events(&self) -> Vec<ConditionEvent> {
-        damage_events(&self.damage)
+        let mut events = damage_events(&self.damage);
+        events.extend(self.supports.events());
+        events.sort_by_key(|e| e.t_ns);
+        events
     }
 }

@@ -1,9 +1,11 @@
 //! The bridge's stiffness condition at one instant, and when it is worth rebuilding the
 //! model for it.
 
+use super::support_condition::SupportState;
 use crate::physics::bridge::{BeamProperties, StiffnessRegion};
 
-/// Stiffness condition at one time: what temperature and damage do to EI.
+/// Stiffness condition at one time: what temperature and damage do to EI, and the
+/// supports' condition.
 #[derive(Debug, Clone, PartialEq)]
 pub struct StiffnessState {
     /// E(T)/E_ref of the whole beam from the structure temperature.
@@ -17,6 +19,8 @@ pub struct StiffnessState {
     pub temperature_structure_c: f64,
     /// Fraction of EI lost by each `[[damage]]` entry now, in [0, reduction].
     pub damage_fraction: Vec<f64>,
+    /// The supports' springs and settlements (`[[support_condition]]`).
+    pub supports: SupportState,
 }
 
 impl StiffnessState {
@@ -30,6 +34,7 @@ impl StiffnessState {
         beam.flexural_rigidity_n_m2 *= self.global_factor;
         beam.stiffness_regions
             .extend(self.regions.iter().filter(|r| r.ei_factor != 1.0).cloned());
+        self.supports.apply(&mut beam.girder);
         beam
     }
 }
@@ -53,6 +58,16 @@ impl Default for RebuildPolicy {
 }
 
 impl RebuildPolicy {
+    /// True when a value of `now` differs from `before` by more than `threshold_rel` of
+    /// the larger of the two (settlements: they need no rebuild, but their record does).
+    pub fn moved(&self, before: &[f64], now: &[f64]) -> bool {
+        before.len() != now.len()
+            || before
+                .iter()
+                .zip(now)
+                .any(|(a, b)| (a - b).abs() > self.threshold_rel * a.abs().max(b.abs()))
+    }
+
     /// True when `now` differs from `last_built` by more than `threshold_rel` in any
     /// factor, or has a different list of regions.
     pub fn needs_rebuild(&self, last_built: &StiffnessState, now: &StiffnessState) -> bool {
@@ -61,6 +76,18 @@ impl RebuildPolicy {
             return true;
         }
         if last_built.regions.len() != now.regions.len() {
+            return true;
+        }
+        let (before, after) = (
+            &last_built.supports.stiffness_factor,
+            &now.supports.stiffness_factor,
+        );
+        if before.len() != after.len()
+            || before
+                .iter()
+                .zip(after)
+                .any(|(a, b)| changed(a.0, b.0) || changed(a.1, b.1))
+        {
             return true;
         }
         last_built.regions.iter().zip(&now.regions).any(|(a, b)| {

@@ -202,6 +202,48 @@ pub(super) fn condition_cases() -> Vec<Case> {
         .file("air.csv", b"time_s,temperature_c\n0,20\n60,21\n30,22\n"),
         Case::edit("temperature CSV missing", &[CSV_AIR], &["air.csv"]),
         Case::edit(
+            "settlement where there is no support",
+            &[Set(
+                "support_condition",
+                "[{ position_m = 15.0, kind = \"settlement\", settlement_m = 0.01, onset_s = 0.0 }]",
+            )],
+            &["support_condition.0.position_m = 15 is not a support (supports at [0, 30] m"],
+        ),
+        Case::edit(
+            "bearing degradation of a rigid support",
+            &[Set(
+                "support_condition",
+                "[{ position_m = 30.0, kind = \"bearing_degradation\", reduction = 0.5, onset_s = 0.0 }]",
+            )],
+            &[
+                "support_condition.0.kind = bearing_degradation needs an elastic support",
+                "x = 30 m is roller",
+            ],
+        ),
+        Case::edit(
+            "settlement without its size",
+            &[Set(
+                "support_condition",
+                "[{ position_m = 0.0, kind = \"settlement\", onset_s = 0.0 }]",
+            )],
+            &["support_condition.0.settlement_m = (missing) is needed by kind = settlement"],
+        ),
+        Case::edit(
+            "scour on a modal model",
+            &[
+                Set(
+                    "bridge.supports",
+                    "[\"pinned\", { elastic = { vertical_n_m = 1e9 } }]",
+                ),
+                Set("bridge.model", "{ kind = \"modal\", modes = 10, elements = 40 }"),
+                Set(
+                    "support_condition",
+                    "[{ position_m = 30.0, kind = \"scour\", reduction = 0.3, onset_s = 0.0 }]",
+                ),
+            ],
+            &["bridge.model = modal", "cannot follow support_condition.0"],
+        ),
+        Case::edit(
             "damage region beyond the span",
             &[Set(
                 "damage",

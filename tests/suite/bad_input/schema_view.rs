@@ -12,6 +12,19 @@ pub const SCHEMA_ACCEPTS: &[(&str, &str)] = &[
     // kind of sensor, a preset, the other band limit).
     ("sensor beyond the span", "the bound is bridge.span_m"),
     (
+        "settlement where there is no support",
+        "the supports' positions follow from bridge.spans_m",
+    ),
+    (
+        "bearing degradation of a rigid support",
+        "the bound is bridge.supports' kind",
+    ),
+    (
+        "settlement without its size",
+        "which key is needed depends on kind",
+    ),
+    ("scour on a modal model", "the bound is bridge.model's kind"),
+    (
         "load cell off a support",
         "the supports' positions follow from bridge.spans_m",
     ),
