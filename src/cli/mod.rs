@@ -96,6 +96,9 @@ pub enum StudyKind {
     Dlc,
     /// Lumped low-rank, banded FE and modal paths against a converged reference.
     SolverPaths,
+    /// A three-span girder: DAF of the sagging and hogging moments and DLC vs speed and
+    /// road, against the codes; lumped mass vs finite elements on it.
+    Continuous,
 }
 
 /// Parses arguments, runs the command and maps the outcome to an exit code:
@@ -168,6 +171,7 @@ impl StudyArgs {
             StudyKind::Discretization => "discretization",
             StudyKind::Dlc => "dlc",
             StudyKind::SolverPaths => "solver-paths",
+            StudyKind::Continuous => "continuous",
         }
     }
 }

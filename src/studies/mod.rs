@@ -3,6 +3,7 @@
 
 pub mod analytic;
 pub mod bench;
+pub mod continuous;
 pub mod discretization;
 pub mod dlc;
 mod output;
@@ -29,10 +30,11 @@ pub fn run_named(
         "discretization" => discretization::run(out, quick, progress).map(|_| ()),
         "dlc" => dlc::run(out, quick, progress).map(|_| ()),
         "solver-paths" => solver_paths::run(out, quick, progress).map(|_| ()),
+        "continuous" => continuous::run(out, quick, progress).map(|_| ()),
         other => Err(Error::invalid(
             "study",
             other,
-            "is not a study (known: discretization, dlc, solver-paths)",
+            "is not a study (known: discretization, dlc, solver-paths, continuous)",
         )),
     }
 }

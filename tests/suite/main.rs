@@ -13,6 +13,7 @@ mod bench_cmd;
 mod big_models;
 mod common;
 mod console;
+mod continuous_study;
 mod damaged_files;
 mod daq;
 mod determinism;
