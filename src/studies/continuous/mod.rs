@@ -21,8 +21,7 @@ use std::time::Instant;
 
 use crate::error::{Error, Result};
 use crate::physics::bridge::{
-    BeamProperties, BridgeModel, HermiteMesh, LumpedStiffness, ModelSpec, PointQuantity,
-    SparseVec,
+    BeamProperties, BridgeModel, HermiteMesh, LumpedStiffness, ModelSpec, PointQuantity, SparseVec,
 };
 use crate::physics::linalg::BandCholesky;
 use crate::physics::road::RoadSurface;
@@ -102,9 +101,11 @@ pub struct ContinuousReport {
 
 /// The example's girder.
 pub fn example_beam() -> Result<BeamProperties> {
-    Ok(Scenario::from_toml(EXAMPLE, "examples/three_span_continuous.toml")?
-        .bridge
-        .beam())
+    Ok(
+        Scenario::from_toml(EXAMPLE, "examples/three_span_continuous.toml")?
+            .bridge
+            .beam(),
+    )
 }
 
 /// Runs the study and writes CSV, figures and summary.md into `out`.
@@ -128,7 +129,11 @@ pub fn run(out: &Path, quick: bool, progress: &mut dyn FnMut(&str)) -> Result<Co
     let mut cases = Vec::new();
     for surface in Surface::STUDIED {
         // A smooth road has one realisation.
-        let count = if surface == Surface::Smooth { 1 } else { realisations };
+        let count = if surface == Surface::Smooth {
+            1
+        } else {
+            realisations
+        };
         let roads = (0..count)
             .map(|r| setup.road(surface, r))
             .collect::<Result<Vec<_>>>()?;
@@ -201,7 +206,11 @@ pub fn static_peaks(
 ) -> Result<(f64, f64)> {
     let mesh = HermiteMesh::on_girder(beam, elements);
     let factor = BandCholesky::factor(&mesh.stiffness_band()).map_err(|row| {
-        Error::invalid("bridge", format!("(equation {row})"), "is not positive definite")
+        Error::invalid(
+            "bridge",
+            format!("(equation {row})"),
+            "is not positive definite",
+        )
     })?;
     let lines = [
         influence(&mesh, &factor, sagging_x_m),
@@ -222,7 +231,12 @@ pub fn static_peaks(
             mesh.point_operator(x, PointQuantity::Deflection, &mut h);
             for (mk, z) in m.iter_mut().zip(&lines) {
                 // A downward load is -P on the upward-positive DOFs.
-                *mk -= axle.static_load_n * h.idx.iter().zip(&h.val).map(|(&j, v)| v * z[j]).sum::<f64>();
+                *mk -= axle.static_load_n
+                    * h.idx
+                        .iter()
+                        .zip(&h.val)
+                        .map(|(&j, v)| v * z[j])
+                        .sum::<f64>();
             }
         }
         sagging = sagging.max(m[0]);
@@ -253,7 +267,13 @@ fn crossing(
         ContactLaw::Full,
     )?;
     let stepper = Stepper::new(model, DIVERGENCE_HINT);
-    solver.add_vehicle(CoupledVehicle::new(0, truck.clone(), speed_m_s, -setup.approach_m, 0));
+    solver.add_vehicle(CoupledVehicle::new(
+        0,
+        truck.clone(),
+        speed_m_s,
+        -setup.approach_m,
+        0,
+    ));
     let length = model.length_m();
     let travel_m = length + truck.wheelbase_m() + setup.approach_m;
     let steps = (travel_m / (speed_m_s * setup.dt_s)).ceil() as u64;
@@ -301,7 +321,11 @@ fn compare_models(
     quick: bool,
     progress: &mut dyn FnMut(&str),
 ) -> Result<Vec<ModelRow>> {
-    let sizes: &[usize] = if quick { &[13, 26, 52] } else { &[13, 26, 52, 104, 208] };
+    let sizes: &[usize] = if quick {
+        &[13, 26, 52]
+    } else {
+        &[13, 26, 52, 104, 208]
+    };
     let reference = reference_frequencies(setup)?;
     let smooth = setup.road(Surface::Smooth, 0)?;
     let fine = setup.build_model(&ModelSpec::FiniteElement { elements: 400 })?;
@@ -309,7 +333,9 @@ fn compare_models(
     let mut rows = Vec::new();
     for (name, spec) in [
         ("lumped_mass", lumped as fn(usize) -> ModelSpec),
-        ("finite_element", |n| ModelSpec::FiniteElement { elements: n }),
+        ("finite_element", |n| ModelSpec::FiniteElement {
+            elements: n,
+        }),
     ] {
         for &n in sizes {
             progress(&format!("continuous (a) {name} n={n}"));
@@ -318,7 +344,8 @@ fn compare_models(
             let build_s = t.elapsed().as_secs_f64();
             let t = Instant::now();
             let c = crossing(setup, &model, truck, &smooth, 20.0)?;
-            let steps = (model.length_m() + truck.wheelbase_m() + setup.approach_m) / (20.0 * setup.dt_s);
+            let steps =
+                (model.length_m() + truck.wheelbase_m() + setup.approach_m) / (20.0 * setup.dt_s);
             let frequencies_hz = [1, 2, 3].map(|k| model.frequency_hz(k));
             rows.push(ModelRow {
                 model: name,

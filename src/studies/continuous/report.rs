@@ -98,9 +98,9 @@ fn per_road(
                     .iter()
                     .map(|c| (c.speed_m_s, f(c).p5, f(c).p95))
                     .collect();
-                chart
-                    .series
-                    .push(Series::line_markers(format!("{name}: mean, p5-p95"), mean).with_band(band));
+                chart.series.push(
+                    Series::line_markers(format!("{name}: mean, p5-p95"), mean).with_band(band),
+                );
             }
             for (code, factor) in &r.codes {
                 chart.hlines.push((*factor, format!("{code} {factor:.2}")));
@@ -217,7 +217,8 @@ fn summary(r: &ContinuousReport) -> String {
                 .map(|c| (f(c), c.speed_m_s))
                 .max_by(|a, b| a.0.mean.total_cmp(&b.0.mean))
         };
-        let (Some((sag, vs)), Some((hog, vh))) = (worst(&|c| c.daf_sagging), worst(&|c| c.daf_hogging))
+        let (Some((sag, vs)), Some((hog, vh))) =
+            (worst(&|c| c.daf_sagging), worst(&|c| c.daf_hogging))
         else {
             continue;
         };
