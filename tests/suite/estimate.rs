@@ -46,6 +46,8 @@ const CASES: &[(Option<&str>, Option<f64>)] = &[
     (Some("examples/damage_onset.toml"), Some(30.0)),
     (Some("examples/hour_of_traffic.toml"), Some(30.0)),
     (Some("examples/day_of_traffic.toml"), Some(30.0)),
+    (Some("examples/three_span_hour_of_traffic.toml"), Some(30.0)),
+    (Some("examples/three_span_continuous.toml"), None),
 ];
 
 /// The scenario `file` (or the default one), cut to `duration_s` if given, resolved with

@@ -112,6 +112,11 @@ const PINNED: &[(&str, f64, &str)] = &[
         "9d22c5ebc632131939b687cd1c4e7a3b2875083a6d11250860223c495b4ca7af",
     ),
     (
+        "three_span_hour_of_traffic",
+        20.0,
+        "17f1cf1e78da3f96667dd4bb5d23dc00bdf938a9c4168ba3aa66fb88625c2987",
+    ),
+    (
         "two_span_concrete",
         0.0,
         "ff2009cf7fde1d61e95caf5ce057dc3e751380e12b2ae9dd5cb797b066ffd9e9",

@@ -10,6 +10,7 @@
 
 pub mod chains;
 mod end_to_end;
+pub mod girder;
 mod report;
 pub mod setup;
 pub mod timing;
@@ -86,6 +87,8 @@ pub struct BenchReport {
     pub end_to_end: EndToEnd,
     /// 16 realistic measurement chains against ideal sensors.
     pub chains: chains::ChainCost,
+    /// The three-span example against the single span, 150 FE elements each.
+    pub girder: girder::GirderCost,
     pub wall_s: f64,
 }
 
@@ -110,6 +113,8 @@ pub fn run(quick: bool, progress: &mut dyn FnMut(&str)) -> Result<BenchReport> {
     let end_to_end = end_to_end::measure(if quick { 3 } else { 7 })?;
     progress("measurement chains: 16 channels, ideal vs mems_lownoise + clocks + faults");
     let chains = chains::measure(if quick { 1 } else { 5 })?;
+    progress("continuous girder: three spans vs one, 150 elements");
+    let girder = girder::measure(&plan, if quick { 1 } else { 3 })?;
     Ok(BenchReport {
         quick,
         nodes: node_counts(quick).to_vec(),
@@ -117,6 +122,7 @@ pub fn run(quick: bool, progress: &mut dyn FnMut(&str)) -> Result<BenchReport> {
         reference: accuracy.summary(),
         end_to_end,
         chains,
+        girder,
         wall_s: started.elapsed().as_secs_f64(),
     })
 }

@@ -70,12 +70,15 @@ fn cases_csv(r: &ContinuousReport) -> String {
     csv
 }
 
+/// One statistic of a case, by name in the figures.
+type Statistic = fn(&Case) -> Spread;
+
 /// A chart per road of `what` (mean with its p5-p95 band) vs speed, the codes as lines.
 fn per_road(
     r: &ContinuousReport,
     title: &str,
     y_label: &str,
-    series: &[(&str, fn(&Case) -> Spread)],
+    series: &[(&str, Statistic)],
 ) -> Vec<Chart> {
     let top = r
         .cases
