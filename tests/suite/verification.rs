@@ -74,6 +74,11 @@ fn girder_statics_against_the_three_moment_equation() {
 }
 
 #[test]
+fn girder_supports_against_statics_and_exact_frequencies() {
+    assert_group("girder_supports", 16);
+}
+
+#[test]
 fn girder_moving_force_against_exact_modes() {
     assert_group("girder_moving_force", 8);
 }
@@ -215,6 +220,7 @@ fn every_group_is_tested_here() {
             "girder_frequencies",
             "girder_statics",
             "girder_moving_force",
+            "girder_supports",
             "vbi_equilibrium",
             "vbi_static_loads",
             "vbi_harmonic",

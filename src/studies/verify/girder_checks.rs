@@ -16,7 +16,7 @@ const EI_N_M2: f64 = 5.629e10;
 const MASS_KG_M: f64 = 12_000.0;
 
 /// A girder of the paper's section.
-fn girder(spans: &[f64], supports: &[Support], overhangs_m: [f64; 2]) -> BeamProperties {
+pub(super) fn girder(spans: &[f64], supports: &[Support], overhangs_m: [f64; 2]) -> BeamProperties {
     BeamProperties {
         girder: Girder {
             spans_m: spans.to_vec(),

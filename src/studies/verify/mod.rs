@@ -7,6 +7,7 @@
 mod beam_checks;
 mod girder_checks;
 mod harness;
+mod support_checks;
 mod vbi;
 
 use serde::Serialize;
@@ -20,6 +21,7 @@ pub use harness::{
     manufactured_history, moving_force_history, moving_force_history_at, ManufacturedCase,
     MovingForceCase,
 };
+pub use support_checks::girder_supports;
 pub use vbi::{
     approach_equilibrium, road_profiles, sine_road_response, sprung_mass_crossing, static_loads,
     suspension_limits, truck_vs_moving_forces, unilateral_contact, TRUCK_COUPLED_REFERENCE,
@@ -132,6 +134,10 @@ pub fn ladder() -> Vec<CheckGroup> {
         CheckGroup {
             name: "girder_moving_force",
             run: girder_moving_force,
+        },
+        CheckGroup {
+            name: "girder_supports",
+            run: girder_supports,
         },
         CheckGroup {
             name: "vbi_equilibrium",
