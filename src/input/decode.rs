@@ -11,8 +11,8 @@ use super::table::{Table, TableBuilder};
 use crate::output::proto::foxglove::Log;
 use crate::output::proto::v1::{
     AccelerationSample, AxleLoads, BridgeState, DisplacementSample, FaultInterval, ReactionSample,
-    RotationSample, SampleBlock, SensorTruth, SensorTruthBlock, StrainSample, VehicleTruth,
-    WimRecord,
+    RotationSample, SampleBlock, SensorTruth, SensorTruthBlock, StrainSample, TemperatureSample,
+    VehicleTruth, WimRecord,
 };
 use crate::record::SensorKind;
 
@@ -24,6 +24,7 @@ pub enum Decoder {
     Displacement,
     Rotation,
     Reaction,
+    Temperature,
     SampleBlock,
     SensorTruth,
     SensorTruthBlock,
@@ -45,6 +46,7 @@ impl Decoder {
             "bridgetwin.v1.DisplacementSample" => Decoder::Displacement,
             "bridgetwin.v1.RotationSample" => Decoder::Rotation,
             "bridgetwin.v1.ReactionSample" => Decoder::Reaction,
+            "bridgetwin.v1.TemperatureSample" => Decoder::Temperature,
             "bridgetwin.v1.SampleBlock" => Decoder::SampleBlock,
             "bridgetwin.v1.SensorTruth" => Decoder::SensorTruth,
             "bridgetwin.v1.SensorTruthBlock" => Decoder::SensorTruthBlock,
@@ -117,6 +119,16 @@ impl Decoder {
                     stamp(&m.timestamp)?,
                     SensorKind::LoadCell,
                     m.reaction_n,
+                )
+            }
+            Decoder::Temperature => {
+                let m: TemperatureSample = parse(data)?;
+                sample(
+                    table,
+                    log,
+                    stamp(&m.timestamp)?,
+                    SensorKind::Thermometer,
+                    m.temperature_c,
                 )
             }
             Decoder::SampleBlock => sample_block(table, log, &parse(data)?),
@@ -268,6 +280,7 @@ fn sensor_truth(table: &mut TableBuilder, log: i64, m: &SensorTruth) -> Result<(
     table.f64("moment_n_m", m.moment_n_m);
     table.f64("rotation_rad", m.rotation_rad);
     table.f64("reaction_n", m.reaction_n);
+    table.f64("temperature_c", m.temperature_c);
     table.i64("node_timestamp_ns", node.unwrap_or(stamp_ns));
     table.bool("measured_lost", m.measured_lost);
     Ok(())
@@ -297,11 +310,13 @@ fn truth_block(table: &mut TableBuilder, log: i64, m: &SensorTruthBlock) -> Resu
     for (name, c) in columns {
         table.f64s(name, c.iter().copied());
     }
-    // Only the kind that measures them fills these (an inclinometer, a load cell); the
-    // others leave them empty, meaning zero, as the per-sample layout does.
+    // Only the kind that measures them fills these (an inclinometer, a load cell, a
+    // thermometer); the others leave them empty, meaning zero, as the per-sample layout
+    // does.
     for (name, c) in [
         ("rotation_rad", &m.rotation_rad),
         ("reaction_n", &m.reaction_n),
+        ("temperature_c", &m.temperature_c),
     ] {
         match c.len() {
             0 => table.f64s(name, std::iter::repeat_n(0.0, n)),

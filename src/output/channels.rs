@@ -10,8 +10,8 @@ use super::blocks::{OpenBlock, Stream};
 use super::proto::foxglove::{Log, SceneUpdate};
 use super::proto::v1::{
     AccelerationSample, AxleLoads, BridgeState, DisplacementSample, FaultInterval, ReactionSample,
-    RotationSample, SampleBlock, SensorTruth, SensorTruthBlock, StrainSample, VehicleTruth,
-    WimRecord,
+    RotationSample, SampleBlock, SensorTruth, SensorTruthBlock, StrainSample, TemperatureSample,
+    VehicleTruth, WimRecord,
 };
 use super::scene::SCENE_FRAME;
 use super::{metadata, ChannelId, McapSink, Topics};
@@ -277,6 +277,9 @@ fn sensor_channels<W: Write + Seek>(
             sink.add_channel::<RotationSample>(&topic, meta.clone())?
         }
         (_, SensorKind::LoadCell) => sink.add_channel::<ReactionSample>(&topic, meta.clone())?,
+        (_, SensorKind::Thermometer) => {
+            sink.add_channel::<TemperatureSample>(&topic, meta.clone())?
+        }
     };
     meta.insert(
         "sensor_model".into(),
@@ -336,6 +339,7 @@ fn preview_channels<W: Write + Seek>(
         SensorKind::Displacement => sink.add_channel::<DisplacementSample>(topic, meta),
         SensorKind::Inclinometer => sink.add_channel::<RotationSample>(topic, meta),
         SensorKind::LoadCell => sink.add_channel::<ReactionSample>(topic, meta),
+        SensorKind::Thermometer => sink.add_channel::<TemperatureSample>(topic, meta),
     };
     let mut measured_meta = meta.clone();
     if let Some(clock) = &sensor.clock {

@@ -14,7 +14,7 @@ use super::channels::{register, Channels};
 use super::messages;
 use super::proto::v1::{
     AccelerationSample, BridgeState, DisplacementSample, ReactionSample, RotationSample,
-    SampleBlock, SensorTruth, SensorTruthBlock, StrainSample,
+    SampleBlock, SensorTruth, SensorTruthBlock, StrainSample, TemperatureSample,
 };
 use super::scene::{interpolate, SceneGeometry};
 use super::{timestamp_from_ns, ChannelId, McapSink};
@@ -201,6 +201,7 @@ impl<'a, W: Write + Seek> McapRecorder<'a, W> {
                     // them empty (their values are zero) rather than grow every block.
                     rotation_rad: only_for(ch.kind, SensorKind::Inclinometer, next()),
                     reaction_n: only_for(ch.kind, SensorKind::LoadCell, next()),
+                    temperature_c: only_for(ch.kind, SensorKind::Thermometer, next()),
                 };
                 self.sink.write(ch.truth, time, &truth)
             }
@@ -239,6 +240,7 @@ impl<'a, W: Write + Seek> McapRecorder<'a, W> {
             moment_n_m: truth.moment_n_m,
             rotation_rad: truth.rotation_rad,
             reaction_n: truth.reaction_n,
+            temperature_c: truth.temperature_c,
             // Only where a node clock makes it differ: it would add 8 % to the file else.
             node_timestamp: (stamp_ns != time.wrapping_sub(run.start_time_ns) as i64)
                 .then_some(node_stamp)
@@ -472,6 +474,14 @@ fn write_sample<W: Write + Seek>(
             &ReactionSample {
                 timestamp,
                 reaction_n: value,
+            },
+        ),
+        SensorKind::Thermometer => sink.write(
+            channel,
+            time,
+            &TemperatureSample {
+                timestamp,
+                temperature_c: value,
             },
         ),
     }

@@ -65,6 +65,7 @@ fn sensor_color(kind: SensorKind) -> Color {
         SensorKind::Displacement => rgba(0.20, 0.40, 0.90, 1.0),
         SensorKind::Inclinometer => rgba(0.85, 0.60, 0.10, 1.0),
         SensorKind::LoadCell => rgba(0.55, 0.25, 0.75, 1.0),
+        SensorKind::Thermometer => rgba(0.95, 0.55, 0.65, 1.0),
     }
 }
 

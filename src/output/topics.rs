@@ -51,6 +51,11 @@ impl Topics {
         Self::with_segment("/sensors/load/", "sensor id", id)
     }
 
+    /// `/sensors/temp/<id>`: deck thermometer as recorded by the DAQ.
+    pub fn temp(id: &str) -> Result<String> {
+        Self::with_segment("/sensors/temp/", "sensor id", id)
+    }
+
     /// The measured topic of a sensor of `kind`: `/sensors/<segment>/<id>`.
     pub fn sensor(kind: SensorKind, id: &str) -> Result<String> {
         match kind {
@@ -59,10 +64,12 @@ impl Topics {
             SensorKind::Displacement => Self::disp(id),
             SensorKind::Inclinometer => Self::tilt(id),
             SensorKind::LoadCell => Self::load(id),
+            SensorKind::Thermometer => Self::temp(id),
         }
     }
 
-    /// The topic segment of a sensor kind (`accel`, `strain`, `disp`, `tilt`, `load`).
+    /// The topic segment of a sensor kind (`accel`, `strain`, `disp`, `tilt`, `load`,
+    /// `temp`).
     pub fn segment(kind: SensorKind) -> &'static str {
         match kind {
             SensorKind::Accelerometer => "accel",
@@ -70,6 +77,7 @@ impl Topics {
             SensorKind::Displacement => "disp",
             SensorKind::Inclinometer => "tilt",
             SensorKind::LoadCell => "load",
+            SensorKind::Thermometer => "temp",
         }
     }
 

@@ -19,14 +19,16 @@ pub struct Quantities {
     /// The live-load reaction of the support the sensor sits on (N); 0 for a sensor that
     /// does not measure a support (every kind but the load cell).
     pub reaction_n: f64,
+    /// The deck (structure) temperature (degC), for a thermometer; 0 for the other kinds.
+    pub temperature_c: f64,
 }
 
 impl Quantities {
     /// Number of quantities (columns of a truth block).
-    pub const COUNT: usize = 7;
+    pub const COUNT: usize = 8;
 
     /// The quantities in column order: displacement, velocity, acceleration, strain,
-    /// moment, rotation, reaction (the order of `SensorTruthBlock`'s columns).
+    /// moment, rotation, reaction, temperature (the order of `SensorTruthBlock`'s columns).
     pub fn to_columns(&self) -> [f64; Self::COUNT] {
         [
             self.displacement_m,
@@ -36,6 +38,7 @@ impl Quantities {
             self.moment_n_m,
             self.rotation_rad,
             self.reaction_n,
+            self.temperature_c,
         ]
     }
 
@@ -49,6 +52,7 @@ impl Quantities {
             moment_n_m: c[4],
             rotation_rad: c[5],
             reaction_n: c[6],
+            temperature_c: c[7],
         }
     }
 
@@ -60,6 +64,7 @@ impl Quantities {
             SensorKind::Displacement => self.displacement_m,
             SensorKind::Inclinometer => self.rotation_rad,
             SensorKind::LoadCell => self.reaction_n,
+            SensorKind::Thermometer => self.temperature_c,
         }
     }
 }
@@ -75,16 +80,20 @@ pub enum SensorKind {
     Inclinometer,
     /// A load cell under a bearing: the support's reaction. Must sit on a support.
     LoadCell,
+    /// A thermometer on the deck: the structure temperature (the air lagged), which the
+    /// frequency-tracking pipelines regress on.
+    Thermometer,
 }
 
 impl SensorKind {
     /// Every kind, in declaration order.
-    pub const ALL: [SensorKind; 5] = [
+    pub const ALL: [SensorKind; 6] = [
         SensorKind::Accelerometer,
         SensorKind::Strain,
         SensorKind::Displacement,
         SensorKind::Inclinometer,
         SensorKind::LoadCell,
+        SensorKind::Thermometer,
     ];
 
     /// Unit of the recorded value.
@@ -95,6 +104,7 @@ impl SensorKind {
             SensorKind::Displacement => "m",
             SensorKind::Inclinometer => "rad",
             SensorKind::LoadCell => "N",
+            SensorKind::Thermometer => "degC",
         }
     }
 
@@ -107,6 +117,7 @@ impl SensorKind {
                 "slope of the downward deflection, positive where it grows towards +x"
             }
             SensorKind::LoadCell => "compression of the bearing positive (upward on the girder)",
+            SensorKind::Thermometer => "degrees Celsius",
         }
     }
 
@@ -118,6 +129,7 @@ impl SensorKind {
             SensorKind::Displacement => "displacement",
             SensorKind::Inclinometer => "rotation",
             SensorKind::LoadCell => "reaction",
+            SensorKind::Thermometer => "temperature",
         }
     }
 
@@ -138,6 +150,7 @@ impl SensorKind {
             SensorKind::Displacement => "displacement_m",
             SensorKind::Inclinometer => "rotation_rad",
             SensorKind::LoadCell => "reaction_n",
+            SensorKind::Thermometer => "temperature_c",
         }
     }
 }

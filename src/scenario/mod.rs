@@ -335,6 +335,7 @@ pub fn default_noise_density(kind: SensorKind) -> f64 {
         SensorKind::Displacement => 1e-6,
         SensorKind::Inclinometer => SensorPreset::InclinometerMems.parameters().noise_density,
         SensorKind::LoadCell => SensorPreset::LoadCellBearing.parameters().noise_density,
+        SensorKind::Thermometer => SensorPreset::ThermometerPt100.parameters().noise_density,
     }
 }
 
@@ -379,7 +380,7 @@ pub struct SensorSpec {
     pub fibre: Option<Fibre>,
     /// Measurement-chain preset (`ideal`, `mems_lownoise`, `piezo_seismic`,
     /// `force_balance`, `mems_consumer`, `strain_foil`, `inclinometer_mems`,
-    /// `load_cell_bearing`); with neither `preset` nor `chain` the channel adds white
+    /// `load_cell_bearing`, `thermometer_pt100`); with neither `preset` nor `chain` the channel adds white
     /// noise only (`noise_density`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub preset: Option<crate::measurement::sensor::chain::SensorPreset>,

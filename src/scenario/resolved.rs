@@ -263,7 +263,7 @@ fn on_a_support(i: usize, sensor: &ResolvedSensor, girder: &Girder) -> Option<St
     // A load cell belongs there; an inclinometer reads the support's rotation unless the
     // support is clamped.
     match sensor.spec.kind {
-        SensorKind::LoadCell => return None,
+        SensorKind::LoadCell | SensorKind::Thermometer => return None,
         SensorKind::Inclinometer if !girder.supports[k].rigid_rotation() => return None,
         _ => {}
     }

@@ -281,6 +281,7 @@ fn resolve_chain(s: &SensorSpec, path: &str) -> Result<Option<ResolvedChain>> {
         SensorKind::Displacement => TransducerKind::Displacement,
         SensorKind::Inclinometer => TransducerKind::Inclinometer,
         SensorKind::LoadCell => TransducerKind::LoadCell,
+        SensorKind::Thermometer => TransducerKind::Thermometer,
     };
     let mut spec = s.chain.clone().unwrap_or_default();
     if let Some(d) = s.noise_density {

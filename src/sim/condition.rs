@@ -154,6 +154,11 @@ impl Condition {
         }
     }
 
+    /// The structure (deck) temperature now (degC).
+    pub(super) fn structure_c(&self) -> f64 {
+        self.now.temperature_structure_c
+    }
+
     /// The supports' downward settlements now (m, girder order).
     pub(super) fn settlement_m(&self) -> &[f64] {
         &self.now.supports.settlement_m

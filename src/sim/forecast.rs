@@ -50,13 +50,19 @@ const TYPICAL_QUANTITIES: Quantities = Quantities {
     moment_n_m: 2.5e5,
     rotation_rad: 2.5e-4,
     reaction_n: 0.0,
+    temperature_c: 0.0,
 };
 
-/// The typical truth of a sensor of `kind`: only a load cell's carries a reaction.
+/// The typical truth of a sensor of `kind`: only a load cell's carries a reaction, only
+/// a thermometer's a temperature.
 fn typical_quantities(kind: SensorKind) -> Quantities {
     match kind {
         SensorKind::LoadCell => Quantities {
             reaction_n: 1.25e5,
+            ..TYPICAL_QUANTITIES
+        },
+        SensorKind::Thermometer => Quantities {
+            temperature_c: 18.25,
             ..TYPICAL_QUANTITIES
         },
         _ => TYPICAL_QUANTITIES,

@@ -207,6 +207,7 @@ pub fn run_controlled(
     let mut probes = Probes::new(model, resolved);
     if let Some(c) = condition.as_ref() {
         probes.settle(model, resolved, c.settlement_m())?;
+        probes.set_temperature(c.structure_c());
     }
     for (i, sensor) in resolved.sensors.iter().enumerate() {
         let (channel, clipped) =
@@ -275,6 +276,7 @@ pub fn run_controlled(
                 probes.rebuild(&solver.model, resolved)?;
             }
             probes.settle(&solver.model, resolved, c.settlement_m())?;
+            probes.set_temperature(c.structure_c());
         }
         resyncs.announce_until(t_ns, &mut merger.truth);
         check_state(&solver, &probes.shape, &hint)?;

@@ -53,6 +53,9 @@ pub(super) struct Probes {
     /// girder), settlements included.
     pub(super) reaction_n: Vec<f64>,
     settlement: Option<Settlement>,
+    /// The deck temperature now (degC), for thermometers.
+    temperature_c: f64,
+    thermometers: Vec<bool>,
 }
 
 impl Probes {
@@ -87,6 +90,12 @@ impl Probes {
             reaction_n: vec![0.0; reactions.len()],
             reactions,
             settlement: None,
+            temperature_c: crate::physics::environment::DEFAULT_AIR_C,
+            thermometers: resolved
+                .sensors
+                .iter()
+                .map(|s| s.spec.kind == SensorKind::Thermometer)
+                .collect(),
         };
         probes.operators(model, resolved);
         probes
@@ -160,6 +169,11 @@ impl Probes {
         Ok(())
     }
 
+    /// The deck temperature the thermometers read from now on (degC).
+    pub(super) fn set_temperature(&mut self, structure_c: f64) {
+        self.temperature_c = structure_c;
+    }
+
     /// Reads the support reactions of the solver's state now, when a load cell needs
     /// them every step or `shape_due` (a `/truth/bridge` message is written this step).
     pub(super) fn update_reactions(&mut self, solver: &CoupledSolver, shape_due: bool) {
@@ -223,6 +237,10 @@ impl Probes {
                 false => 0.0,
             },
             reaction_n: probe.support.map_or(0.0, |k| self.reaction_n[k]),
+            temperature_c: match self.thermometers[i] {
+                true => self.temperature_c,
+                false => 0.0,
+            },
         }
     }
 }

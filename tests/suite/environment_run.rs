@@ -256,3 +256,68 @@ fn damage_lowers_f1_as_the_eigen_analysis_of_the_damaged_beam_says() {
     // Before the onset the published model is the sound one.
     assert!((modal[0].2.natural_frequency_hz[0] / f1_sound - 1.0).abs() < 1e-5);
 }
+
+#[test]
+fn a_deck_thermometer_reads_the_structure_temperature() {
+    // The thermometer's truth is the structure temperature of /truth/bridge at the same
+    // instants (exact: the same value); the Pt100 preset's reading is within 5 sigma of
+    // its bias (0.1 degC) plus the 24-bit noise. An accelerometer carries no temperature.
+    let toml = r#"
+seed = 2
+duration_s = 120.0
+[bridge]
+span_m = 30.0
+flexural_rigidity_n_m2 = 5.629e10
+mass_per_length_kg_m = 12000.0
+model = { kind = "finite_element", elements = 20 }
+[environment]
+temperature = { kind = "daily", mean_c = 18.0, amplitude_c = 6.0, peak_hour = 15.0, noise_sd_c = 1.0 }
+lag_s = 600.0
+[[sensors]]
+id = "T1"
+kind = "thermometer"
+position_m = 15.0
+rate_hz = 1.0
+preset = "thermometer_pt100"
+[[sensors]]
+id = "A1"
+kind = "accelerometer"
+position_m = 15.0
+rate_hz = 10.0
+"#;
+    let records = crate::common::records_of(toml);
+    let shapes: std::collections::BTreeMap<u64, f64> = records
+        .iter()
+        .filter_map(|r| match r {
+            bridgetwin::sim::Record::BridgeShape {
+                t_ns,
+                temperatures_c: Some((structure, _)),
+                ..
+            } => Some((*t_ns, *structure)),
+            _ => None,
+        })
+        .collect();
+    let samples = crate::common::sensor_samples(&records, 0);
+    assert!(samples.len() >= 120, "{} samples", samples.len());
+    let mut compared = 0;
+    for (t, _, measured, truth) in &samples {
+        if let Some(structure) = shapes.get(t) {
+            assert_eq!(truth.temperature_c, *structure, "t {t}");
+            compared += 1;
+        }
+        let m = measured.expect("no faults");
+        assert!(
+            (m - truth.temperature_c).abs() < 0.55,
+            "{m} vs {}",
+            truth.temperature_c
+        );
+        assert!((10.0..30.0).contains(&truth.temperature_c));
+    }
+    assert!(
+        compared >= 100,
+        "{compared} instants shared with /truth/bridge"
+    );
+    for (_, _, _, truth) in crate::common::sensor_samples(&records, 1) {
+        assert_eq!(truth.temperature_c, 0.0);
+    }
+}

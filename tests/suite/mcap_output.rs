@@ -151,6 +151,7 @@ fn write_fixture<W: Write + Seek>(sink: &mut McapSink<W>) -> Written {
                     moment_n_m: vec![1e5; 100],
                     rotation_rad: Vec::new(),
                     reaction_n: Vec::new(),
+                    temperature_c: Vec::new(),
                 }
             );
         }

@@ -42,6 +42,8 @@
 //!   version), and the sensors' `sign` metadata is per kind.
 //! - every run: the `BridgeState` schema gains `support_stiffness_ratio` and
 //!   `support_settlement_m` (`[[support_condition]]`; empty otherwise); no value changed.
+//! - every run: the schemas gain the thermometer's `TemperatureSample` and the truth
+//!   streams' `temperature_c` (zero, not encoded, for the other kinds); no value changed.
 
 use std::path::Path;
 use std::process::Command;
@@ -54,82 +56,82 @@ const PINNED: &[(&str, f64, &str)] = &[
     (
         "",
         0.0,
-        "8cedce4b64ff01f9243741fe096078472fc8295238db955e4b5af25868819da2",
+        "bdbe2816742cb617e9f82ae9fc960fa59217d680d61749526b2f3536c27ac23f",
     ),
     (
         "ambient_monitoring",
         20.0,
-        "4e89e190c698882fe05efe70179e3ee24af7aa292130bbd3b97715a157d97b96",
+        "1913901a7716bf2371727cddd1315b9ab006a0f33e0b486df827a879a8cbbfeb",
     ),
     (
         "ambient_monitoring",
         120.0,
-        "a7a4eaee2f7bff6b913e732aa05a686d9746c8684a2501c7495077ff4be783c7",
+        "4f6843229e2a6ba2f54e34512b05333d015e4b0a61d4a0787b782c6ed8a5ada9",
     ),
     (
         "damage_onset",
         20.0,
-        "b14df13c50a9f021453fe61bbf6f9f0ad641cd95aa47af81cc7adcdc86062f6e",
+        "5b0ba0ee58e0e793062b9757f28d6d55b55d9129a6d20e7631f6f329483403f3",
     ),
     (
         "day_of_traffic",
         20.0,
-        "4b11f9770ed5108d52fb221f1c9ef148c909dda1ab84dbd1da6eacf2b55ebfe9",
+        "4642ea8e9342f2705edaa39a3562963197770ce9a061e58fcac417c3a3eb6a50",
     ),
     (
         "hour_of_traffic",
         20.0,
-        "b4ded41c7ad0ad87bb13308d5088a945dfdae519f96bcd6636cd29b77bfd4717",
+        "b803266a0a691aa6bcf4c45c2d4f6e1ba1b2693e41869daedcc34488f722c2bc",
     ),
     (
         "hour_of_traffic",
         60.0,
-        "874d8a9941a124e80207098ed0fe58c99c6e7987b0d1687fdf4fa3dbbbcf0b1c",
+        "b36f92448cba4163ed2924e255cd4874e16830da5925e710f21b44ad3b6865bd",
     ),
     (
         "moving_force",
         20.0,
-        "4ff79da8b3fd2f68c5ec3d4d50ba0ae6073b212fc7483df2b7d3cf13e8c6676f",
+        "6405ac02e41404460b133234707a1bb7689c05ae070378c21d0ce85e984549e8",
     ),
     (
         "paper_case",
         20.0,
-        "7d6168a594177bdd3a834f3885ef3579d54d3d2eb69c0900c8de8829138e60fc",
+        "ab4864c076cf2c9c3bdb48f96d3974ccd71158bd25b6a65850be35c842771aa3",
     ),
     (
         "two_trucks",
         20.0,
-        "9c177a5ccf8f192a50d37d12fafa17b93c6f658028312d407b192ec885e3f3f7",
+        "65ddab5118d0ea5eaf56292e40a3ea98499604bd5e967e06e139802f4d57b23a",
     ),
     (
         "two_trucks",
         40.0,
-        "794da9b1eecfae1411807c2f0ab0c4c77a5f412e91876264d746393540251c4b",
+        "3e0d30783bc535caf00e5831d91eff91bd1ef37c5e531179b7f29c7148781ead",
     ),
     (
         "three_span_continuous",
         0.0,
-        "9d22c5ebc632131939b687cd1c4e7a3b2875083a6d11250860223c495b4ca7af",
+        "3fd08aa28b86698e1ecee2064a0d769f438ff83c42864f7dcbbbec230d8e074a",
     ),
     (
         "three_span_hour_of_traffic",
         20.0,
-        "17f1cf1e78da3f96667dd4bb5d23dc00bdf938a9c4168ba3aa66fb88625c2987",
+        "a9f8f0f498ce74f35de2db862d30d4cf45d9b08eeb79046cfa30d3294e970819",
     ),
     (
         "two_span_concrete",
         0.0,
-        "ff2009cf7fde1d61e95caf5ce057dc3e751380e12b2ae9dd5cb797b066ffd9e9",
+        "69ada98d714ebd6b8a6c0b5b1ac436ec836279ec4d820bbd3b5c6f9dede88d6e",
     ),
     (
         "three_span_concrete",
         0.0,
-        "d9f72e1214d6db2978e68b6c7c81b1cfadd953b2f85a19eff50c9d5175a5e84c",
+        "73359022fdcb713d922137c07c16eead77c3fa390081777e4e3821ec937763a0",
     ),
     (
         "steel_composite_three_span",
         0.0,
-        "af8c6dfa5ebde38b392e59aa82a21dd2d2760095c33142dc72d4bba540a45342",
+        "af15be18cac213f16d832f4f4b3dbeee550ce61e52ed6a5c04e9dcbfb10bab6c",
     ),
 ];
 

@@ -98,6 +98,12 @@ const KINDS: &[Kind] = &[
         field: crate::record::SensorKind::LoadCell.value_field(),
         drawn_down: false,
     },
+    Kind {
+        segment: "temp",
+        title: "Deck temperature, degC",
+        field: crate::record::SensorKind::Thermometer.value_field(),
+        drawn_down: false,
+    },
 ];
 
 /// Schema of a per-sample sensor message (the sample layout and the preview).

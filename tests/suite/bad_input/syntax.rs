@@ -108,8 +108,8 @@ pub(super) fn syntax_cases() -> Vec<Case> {
         ),
         Case::edit(
             "unknown variant: sensor kind",
-            &[Set("sensors.0.kind", "\"thermometer\"")],
-            &["scenario.toml: sensors.0[A1].kind: unknown variant `thermometer`"],
+            &[Set("sensors.0.kind", "\"anemometer\"")],
+            &["scenario.toml: sensors.0[A1].kind: unknown variant `anemometer`"],
         ),
         Case::edit(
             "unknown variant: contact law",

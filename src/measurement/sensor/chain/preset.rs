@@ -38,6 +38,7 @@ pub enum TransducerKind {
     Displacement,
     Inclinometer,
     LoadCell,
+    Thermometer,
 }
 
 impl TransducerKind {
@@ -50,11 +51,12 @@ impl TransducerKind {
             "displacement" => Ok(Self::Displacement),
             "inclinometer" => Ok(Self::Inclinometer),
             "load_cell" => Ok(Self::LoadCell),
+            "thermometer" => Ok(Self::Thermometer),
             _ => Err(Error::invalid(
                 field,
                 name,
                 "is not a sensor kind (accelerometer, strain, displacement, inclinometer, \
-                 load_cell)",
+                 load_cell, thermometer)",
             )),
         }
     }
@@ -67,6 +69,7 @@ impl TransducerKind {
             Self::Displacement => "displacement",
             Self::Inclinometer => "inclinometer",
             Self::LoadCell => "load_cell",
+            Self::Thermometer => "thermometer",
         }
     }
 }
@@ -93,6 +96,8 @@ pub enum SensorPreset {
     InclinometerMems,
     /// 5 MN strain-gauge load cell under a bearing, on a 24-bit bridge amplifier.
     LoadCellBearing,
+    /// Pt100 class A resistance thermometer on the deck, 24-bit RTD input.
+    ThermometerPt100,
 }
 
 impl fmt::Display for SensorPreset {
@@ -168,7 +173,7 @@ pub struct ChainParameters {
 
 impl SensorPreset {
     /// Every preset, in declaration order.
-    pub const ALL: [SensorPreset; 8] = [
+    pub const ALL: [SensorPreset; 9] = [
         Self::Ideal,
         Self::MemsLownoise,
         Self::PiezoSeismic,
@@ -177,6 +182,7 @@ impl SensorPreset {
         Self::StrainFoil,
         Self::InclinometerMems,
         Self::LoadCellBearing,
+        Self::ThermometerPt100,
     ];
 
     /// The snake_case name, as in a scenario.
@@ -190,6 +196,7 @@ impl SensorPreset {
             Self::StrainFoil => "strain_foil",
             Self::InclinometerMems => "inclinometer_mems",
             Self::LoadCellBearing => "load_cell_bearing",
+            Self::ThermometerPt100 => "thermometer_pt100",
         }
     }
 
@@ -200,6 +207,7 @@ impl SensorPreset {
             Self::StrainFoil => Some(TransducerKind::Strain),
             Self::InclinometerMems => Some(TransducerKind::Inclinometer),
             Self::LoadCellBearing => Some(TransducerKind::LoadCell),
+            Self::ThermometerPt100 => Some(TransducerKind::Thermometer),
             _ => Some(TransducerKind::Accelerometer),
         }
     }
@@ -233,6 +241,7 @@ impl SensorPreset {
             Self::StrainFoil => strain_foil(),
             Self::InclinometerMems => inclinometer_mems(),
             Self::LoadCellBearing => load_cell_bearing(),
+            Self::ThermometerPt100 => thermometer_pt100(),
         }
     }
 }
@@ -440,6 +449,32 @@ fn load_cell_bearing() -> ChainParameters {
     }
 }
 
+/// Pt100 resistance thermometer, tolerance class A of IEC 60751: +/-(0.15 + 0.002 |t|) degC,
+/// at bridge temperatures about +/-0.19 degC, taken as 2 sigma of a fixed offset: 0.1 degC
+/// (the bias); its gain error is in that tolerance (0). Read by a 24-bit RTD input:
+/// 0.005 degC rms over a few Hz (estimate of 24-bit RTD modules' resolution), so 2e-3
+/// degC/sqrt(Hz). Range +/-200 degC; rate up to 100 Hz (RTD modules sample slowly; bridge
+/// monitoring logs temperatures at minutes, any rate the channel accepts works). No
+/// drift with the air temperature: the temperature is the measurand.
+fn thermometer_pt100() -> ChainParameters {
+    ChainParameters {
+        coupling: Coupling::Dc {
+            bias: Draw::Normal { sigma: 0.1 },
+            bias_tempco_per_degc: 0.0,
+        },
+        gain_error: Draw::Fixed(0.0),
+        noise_density: 2e-3,
+        flicker_corner_hz: 0.0,
+        flicker_lowest_hz: DEFAULT_FLICKER_LOWEST_HZ,
+        hum: None,
+        adc: Some(AdcParameters {
+            bits: 24,
+            range: 200.0,
+        }),
+        max_rate_hz: Some(100.0),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -459,13 +494,21 @@ mod tests {
     fn presets_are_for_their_kind_only() {
         use TransducerKind::*;
         for p in SensorPreset::ALL {
-            for kind in [Accelerometer, Strain, Displacement, Inclinometer, LoadCell] {
+            for kind in [
+                Accelerometer,
+                Strain,
+                Displacement,
+                Inclinometer,
+                LoadCell,
+                Thermometer,
+            ] {
                 let ok = p.check_kind(kind, "sensors.0.preset").is_ok();
                 let expected = match p {
                     SensorPreset::Ideal => true,
                     SensorPreset::StrainFoil => kind == Strain,
                     SensorPreset::InclinometerMems => kind == Inclinometer,
                     SensorPreset::LoadCellBearing => kind == LoadCell,
+                    SensorPreset::ThermometerPt100 => kind == Thermometer,
                     _ => kind == Accelerometer,
                 };
                 assert_eq!(ok, expected, "{p} on {kind:?}");
@@ -489,6 +532,7 @@ mod tests {
             TransducerKind::Displacement,
             TransducerKind::Inclinometer,
             TransducerKind::LoadCell,
+            TransducerKind::Thermometer,
         ] {
             assert_eq!(TransducerKind::parse(kind.name(), "k").ok(), Some(kind));
         }
