@@ -22,6 +22,7 @@ struct SensorProbe {
     /// The support a load cell sits on (index in the girder's order).
     support: Option<usize>,
     inclinometer: bool,
+    thermometer: bool,
     /// The settlements' static (displacement m downward, rotation rad, moment N m) here.
     settled: (f64, f64, f64),
 }
@@ -55,7 +56,6 @@ pub(super) struct Probes {
     settlement: Option<Settlement>,
     /// The deck temperature now (degC), for thermometers.
     temperature_c: f64,
-    thermometers: Vec<bool>,
 }
 
 impl Probes {
@@ -74,6 +74,7 @@ impl Probes {
                     .then(|| nearest(sensor.spec.position_m))
                     .flatten(),
                 inclinometer: sensor.spec.kind == SensorKind::Inclinometer,
+                thermometer: sensor.spec.kind == SensorKind::Thermometer,
                 ..SensorProbe::default()
             })
             .collect();
@@ -91,11 +92,6 @@ impl Probes {
             reactions,
             settlement: None,
             temperature_c: crate::physics::environment::DEFAULT_AIR_C,
-            thermometers: resolved
-                .sensors
-                .iter()
-                .map(|s| s.spec.kind == SensorKind::Thermometer)
-                .collect(),
         };
         probes.operators(model, resolved);
         probes
@@ -237,7 +233,7 @@ impl Probes {
                 false => 0.0,
             },
             reaction_n: probe.support.map_or(0.0, |k| self.reaction_n[k]),
-            temperature_c: match self.thermometers[i] {
+            temperature_c: match probe.thermometer {
                 true => self.temperature_c,
                 false => 0.0,
             },

@@ -54,30 +54,19 @@ impl ReactionOperator {
     /// The operator of `model`'s supports, in the girder's order.
     pub fn new(model: &BridgeModel) -> Self {
         let mesh = model.mesh();
-        let tolerance = 1e-9 * model.length_m();
-        let rows = model
-            .beam
-            .girder
-            .support_positions_m()
-            .iter()
+        let rows = support_nodes(model)
+            .into_iter()
             .zip(&model.beam.girder.supports)
-            .map(|(&x, support)| {
-                let node = mesh
-                    .node_x_m
-                    .iter()
-                    .position(|&n| (n - x).abs() < tolerance)
-                    .expect("supports are mesh nodes");
-                match support.rigid_vertical() {
-                    false => {
-                        let mut deflection = SparseVec::default();
-                        model.push_mesh_dof(mesh.dof[node][0], 1.0, &mut deflection);
-                        SupportRow::Spring {
-                            deflection,
-                            k_n_m: support.springs().0,
-                        }
+            .map(|(node, support)| match support.rigid_vertical() {
+                false => {
+                    let mut deflection = SparseVec::default();
+                    model.push_mesh_dof(mesh.dof[node][0], 1.0, &mut deflection);
+                    SupportRow::Spring {
+                        deflection,
+                        k_n_m: support.springs().0,
                     }
-                    true => rigid_row(model, node),
                 }
+                true => rigid_row(model, node),
             })
             .collect();
         Self {
@@ -139,6 +128,31 @@ impl ReactionOperator {
     }
 }
 
+/// The mesh node of each support of `model`, in the girder's order.
+pub(super) fn support_nodes(model: &BridgeModel) -> Vec<usize> {
+    let mesh = model.mesh();
+    let tolerance = 1e-9 * model.length_m();
+    model
+        .beam
+        .girder
+        .support_positions_m()
+        .iter()
+        .map(|&x| {
+            mesh.node_x_m
+                .iter()
+                .position(|&n| (n - x).abs() < tolerance)
+                .expect("supports are mesh nodes")
+        })
+        .collect()
+}
+
+/// The elements either side of `node` with the local row of its w in each: the one left
+/// of it (node is its second end: row 2) and the one right of it (first end: row 0). At
+/// the girder's ends one index is out of range; callers skip it.
+pub(super) fn neighbour_rows(node: usize) -> [(usize, usize); 2] {
+    [(node.wrapping_sub(1), 2), (node, 0)]
+}
+
 /// The stiffness and mass rows of the constrained w of `node` over the model DOFs, from
 /// the element left of the node (node is its second end: local row 2) and the one right
 /// of it (first end: row 0).
@@ -146,7 +160,7 @@ fn rigid_row(model: &BridgeModel, node: usize) -> SupportRow {
     let mesh = model.mesh();
     let mut stiffness = SparseVec::default();
     let mut mass = SparseVec::default();
-    for (e, row) in [(node.wrapping_sub(1), 2), (node, 0)] {
+    for (e, row) in neighbour_rows(node) {
         let Some(element) = mesh.elements.get(e) else {
             continue;
         };

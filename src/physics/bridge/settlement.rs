@@ -12,6 +12,7 @@
 use super::hermite::{element_stiffness, shape, shape_dx, shape_dxx, ShapeValues};
 use super::mesh::{HermiteMesh, PointQuantity};
 use super::model::BridgeModel;
+use super::reactions::{neighbour_rows, support_nodes};
 use crate::error::{Error, Result};
 use crate::physics::linalg::BandCholesky;
 
@@ -59,10 +60,19 @@ impl SettlementField {
             let mut rhs = vec![0.0; mesh.n_dof];
             match rigid[k] {
                 // w of the node is -1 (upward positive): move K_fc (-1) to the right.
-                true => for_neighbours(&mesh, node, |e, row, dof| {
-                    let ke = element_stiffness(mesh.elements[e].ei_n_m2, mesh.elements[e].length_m);
-                    rhs[dof] += ke[(row, local_w(e, node))];
-                }),
+                true => {
+                    for (e, w) in neighbour_rows(node) {
+                        let Some(element) = mesh.elements.get(e) else {
+                            continue;
+                        };
+                        let ke = element_stiffness(element.ei_n_m2, element.length_m);
+                        for row in 0..4 {
+                            if let Some(dof) = mesh.dof[e + row / 2][row % 2] {
+                                rhs[dof] += ke[(row, w)];
+                            }
+                        }
+                    }
+                }
                 // The spring's base at -1: it pulls the node down by k_v.
                 false => {
                     if let Some(dof) = mesh.dof[node][0] {
@@ -143,60 +153,17 @@ impl SettlementField {
     }
 }
 
-/// The mesh node of each support.
-fn support_nodes(model: &BridgeModel) -> Vec<usize> {
-    let mesh = model.mesh();
-    let tolerance = 1e-9 * model.length_m();
-    model
-        .beam
-        .girder
-        .support_positions_m()
-        .iter()
-        .map(|&x| {
-            mesh.node_x_m
-                .iter()
-                .position(|&n| (n - x).abs() < tolerance)
-                .expect("supports are mesh nodes")
-        })
-        .collect()
-}
-
-/// The local index of `node`'s w in element `e` (0 at its first end, 2 at its second).
-fn local_w(e: usize, node: usize) -> usize {
-    if e == node {
-        0
-    } else {
-        2
-    }
-}
-
-/// Calls `f(element, local row, free equation)` for every free DOF of the elements either
-/// side of `node`.
-fn for_neighbours(mesh: &HermiteMesh, node: usize, mut f: impl FnMut(usize, usize, usize)) {
-    for e in [node.wrapping_sub(1), node] {
-        if e >= mesh.elements.len() {
-            continue;
-        }
-        for row in 0..4 {
-            if let Some(dof) = mesh.dof[e + row / 2][row % 2] {
-                f(e, row, dof);
-            }
-        }
-    }
-}
-
 /// The reaction of the rigid support at `node` for full node values: its constrained
 /// row of `K u` from the elements either side.
 fn rigid_reaction(mesh: &HermiteMesh, node: usize, values: &[[f64; 2]]) -> f64 {
     let mut r = 0.0;
-    for e in [node.wrapping_sub(1), node] {
+    for (e, w) in neighbour_rows(node) {
         let Some(element) = mesh.elements.get(e) else {
             continue;
         };
         let ke = element_stiffness(element.ei_n_m2, element.length_m);
-        let row = local_w(e, node);
         for col in 0..4 {
-            r += ke[(row, col)] * values[e + col / 2][col % 2];
+            r += ke[(w, col)] * values[e + col / 2][col % 2];
         }
     }
     r
