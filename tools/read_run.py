@@ -51,6 +51,9 @@ BLOCK_VALUE_NAMES = {
     "acceleration": "acceleration_m_s2",
     "strain": "strain_microstrain",
     "displacement": "displacement_m",
+    "rotation": "rotation_rad",
+    "reaction": "reaction_n",
+    "temperature": "temperature_c",
 }
 SENSOR_PREFIXES = ("/sensors/",)
 

@@ -10,9 +10,10 @@ use prost::Message;
 use super::table::{Table, TableBuilder};
 use crate::output::proto::foxglove::Log;
 use crate::output::proto::v1::{
-    AccelerationSample, AxleLoads, BridgeState, DisplacementSample, FaultInterval, ReactionSample,
-    RotationSample, SampleBlock, SensorTruth, SensorTruthBlock, StrainSample, TemperatureSample,
-    VehicleTruth, WimRecord,
+    AccelerationSample, AxleDetection, AxleDetectionTruth, AxleLoads, BridgeState,
+    DisplacementSample, FaultInterval, GnssFix, ReactionSample, RotationSample, SampleBlock,
+    SensorTruth, SensorTruthBlock, StrainSample, TemperatureSample, VehicleState, VehicleTruth,
+    WimRecord,
 };
 use crate::record::SensorKind;
 
@@ -34,6 +35,10 @@ pub enum Decoder {
     Bridge,
     Wim,
     Log,
+    Gnss,
+    AxleDetection,
+    AxleDetectionTruth,
+    VehicleState,
 }
 
 impl Decoder {
@@ -56,6 +61,10 @@ impl Decoder {
             "bridgetwin.v1.BridgeState" => Decoder::Bridge,
             "bridgetwin.v1.WimRecord" => Decoder::Wim,
             "foxglove.Log" => Decoder::Log,
+            "bridgetwin.v1.GnssFix" => Decoder::Gnss,
+            "bridgetwin.v1.AxleDetection" => Decoder::AxleDetection,
+            "bridgetwin.v1.AxleDetectionTruth" => Decoder::AxleDetectionTruth,
+            "bridgetwin.v1.VehicleState" => Decoder::VehicleState,
             _ => return None,
         })
     }
@@ -140,6 +149,10 @@ impl Decoder {
             Decoder::Bridge => bridge(table, log, &parse(data)?),
             Decoder::Wim => wim(table, log, &parse(data)?),
             Decoder::Log => event(table, log, &parse(data)?),
+            Decoder::Gnss => gnss(table, log, &parse(data)?),
+            Decoder::AxleDetection => axle_detection(table, log, &parse(data)?),
+            Decoder::AxleDetectionTruth => axle_detection_truth(table, log, &parse(data)?),
+            Decoder::VehicleState => vehicle_state(table, log, &parse(data)?),
         }
     }
 }
@@ -347,6 +360,95 @@ fn axle_loads(table: &mut TableBuilder, log: i64, m: &AxleLoads) -> Result<(), S
     );
     table.bools("axles.in_contact", m.axles.iter().map(|a| a.in_contact));
     table.bools("axles.on_bridge", m.axles.iter().map(|a| a.on_bridge));
+    Ok(())
+}
+
+fn gnss(table: &mut TableBuilder, log: i64, m: &GnssFix) -> Result<(), String> {
+    let stamp_ns = stamp(&m.timestamp)?;
+    table.rows(1);
+    table.i64("log_time_ns", log);
+    table.i64("timestamp_ns", stamp_ns);
+    table.u32("vehicle_id", m.vehicle_id);
+    table.f64("position_m", m.position_m);
+    table.f64("speed_m_s", m.speed_m_s);
+    table.f64("position_sigma_m", m.position_sigma_m);
+    Ok(())
+}
+
+fn axle_detection(table: &mut TableBuilder, log: i64, m: &AxleDetection) -> Result<(), String> {
+    let stamp_ns = stamp(&m.timestamp)?;
+    table.rows(1);
+    table.i64("log_time_ns", log);
+    table.i64("timestamp_ns", stamp_ns);
+    table.str("detector_id", &m.detector_id);
+    table.i64_or_missing(
+        "detected_time_ns",
+        m.detected_time.as_ref().map(ns).transpose()?,
+    );
+    Ok(())
+}
+
+fn axle_detection_truth(
+    table: &mut TableBuilder,
+    log: i64,
+    m: &AxleDetectionTruth,
+) -> Result<(), String> {
+    let stamp_ns = stamp(&m.timestamp)?;
+    let detected = m.detected_time.as_ref().map(ns).transpose()?;
+    table.rows(1);
+    table.i64("log_time_ns", log);
+    table.i64("timestamp_ns", stamp_ns);
+    table.str("detector_id", &m.detector_id);
+    table.u32("vehicle_id", m.vehicle_id);
+    table.u32("axle_index", m.axle_index);
+    table.u32("lane", m.lane);
+    table.f64("speed_m_s", m.speed_m_s);
+    table.bool("detected", m.detected);
+    table.i64_or_missing("detected_time_ns", detected);
+    table.i64_or_missing(
+        "crossing_time_ns",
+        m.crossing_time.as_ref().map(ns).transpose()?,
+    );
+    Ok(())
+}
+
+/// One row per instant: the DOF arrays and each contact field as lists (axle order; the
+/// flag `on_bridge` as 0 / 1).
+fn vehicle_state(table: &mut TableBuilder, log: i64, m: &VehicleState) -> Result<(), String> {
+    let stamp_ns = stamp(&m.timestamp)?;
+    table.rows(1);
+    table.i64("log_time_ns", log);
+    table.i64("timestamp_ns", stamp_ns);
+    table.u32("vehicle_id", m.vehicle_id);
+    table.f64("position_m", m.position_m);
+    table.f64("speed_m_s", m.speed_m_s);
+    table.f64_list("dof_displacement", &m.dof_displacement);
+    table.f64_list("dof_velocity", &m.dof_velocity);
+    table.f64_list("dof_acceleration", &m.dof_acceleration);
+    let c = &m.contacts;
+    let list = |f: fn(&crate::output::proto::v1::ContactPoint) -> f64| -> Vec<f64> {
+        c.iter().map(f).collect()
+    };
+    table.f64_list("contacts.position_m", &list(|c| c.position_m));
+    table.f64_list("contacts.road_elevation_m", &list(|c| c.road_elevation_m));
+    table.f64_list(
+        "contacts.bridge_deflection_m",
+        &list(|c| c.bridge_deflection_m),
+    );
+    table.f64_list(
+        "contacts.contact_elevation_m",
+        &list(|c| c.contact_elevation_m),
+    );
+    table.f64_list(
+        "contacts.bridge_acceleration_m_s2",
+        &list(|c| c.bridge_acceleration_m_s2),
+    );
+    table.f64_list("contacts.force_n", &list(|c| c.force_n));
+    let axle: Vec<u32> = c.iter().map(|c| c.axle_index).collect();
+    table.u32_list("contacts.axle_index", &axle);
+    // Lists of flags are lists of 0 / 1 (the table has no list of booleans).
+    let on_bridge: Vec<u32> = c.iter().map(|c| u32::from(c.on_bridge)).collect();
+    table.u32_list("contacts.on_bridge", &on_bridge);
     Ok(())
 }
 

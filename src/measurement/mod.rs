@@ -4,4 +4,5 @@
 
 pub mod daq;
 pub mod sensor;
+pub mod vehicle;
 pub mod wim;

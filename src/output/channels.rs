@@ -9,9 +9,10 @@ use std::io::{Seek, Write};
 use super::blocks::{OpenBlock, Stream};
 use super::proto::foxglove::{Log, SceneUpdate};
 use super::proto::v1::{
-    AccelerationSample, AxleLoads, BridgeState, DisplacementSample, FaultInterval, ReactionSample,
-    RotationSample, SampleBlock, SensorTruth, SensorTruthBlock, StrainSample, TemperatureSample,
-    VehicleTruth, WimRecord,
+    AccelerationSample, AxleDetection, AxleDetectionTruth, AxleLoads, BridgeState,
+    DisplacementSample, FaultInterval, GnssFix, ReactionSample, RotationSample, SampleBlock,
+    SensorTruth, SensorTruthBlock, StrainSample, TemperatureSample, VehicleState, VehicleTruth,
+    WimRecord,
 };
 use super::scene::SCENE_FRAME;
 use super::{metadata, ChannelId, McapSink, Topics};
@@ -54,6 +55,14 @@ pub(super) struct Channels {
     pub faults: Option<ChannelId>,
     /// `/scene`, registered when the run writes the 3D scene.
     pub scene: Option<ChannelId>,
+    /// Per GNSS receiver, manifest order.
+    pub gnss: Vec<ChannelId>,
+    /// Per axle detector, manifest order: (id, channel).
+    pub axle_detectors: Vec<(String, ChannelId)>,
+    /// `/truth/axle_detections`, registered when the run has axle detectors.
+    pub axle_detections: Option<ChannelId>,
+    /// Per instrumented vehicle: (vehicle id, `/truth/vehicle_state/<id>`).
+    pub vehicle_states: Vec<(u32, ChannelId)>,
 }
 
 /// Writes the run's metadata records and attachments, then registers every channel.
@@ -138,6 +147,7 @@ pub(super) fn register<W: Write + Seek>(
         }
         None => None,
     };
+    let instruments = instrument_channels(sink, manifest)?;
     Ok(Channels {
         sensors,
         axle_loads,
@@ -147,7 +157,107 @@ pub(super) fn register<W: Write + Seek>(
         events,
         faults,
         scene,
+        gnss: instruments.0,
+        axle_detectors: instruments.1,
+        axle_detections: instruments.2,
+        vehicle_states: instruments.3,
     })
+}
+
+/// The channels of what sees the vehicles.
+type InstrumentChannels = (
+    Vec<ChannelId>,
+    Vec<(String, ChannelId)>,
+    Option<ChannelId>,
+    Vec<(u32, ChannelId)>,
+);
+
+/// Registers the GNSS receivers, the axle detectors (and their truth) and the
+/// instrumented vehicles' state channels.
+fn instrument_channels<W: Write + Seek>(
+    sink: &mut McapSink<W>,
+    manifest: &RunManifest,
+) -> Result<InstrumentChannels> {
+    let mut gnss = Vec::new();
+    for g in &manifest.gnss {
+        let values = [
+            format!("{}", g.rate_hz),
+            format!("{}", g.position_noise_m),
+            format!("{}", g.correlation_s),
+            format!("{}", g.speed_noise_m_s),
+        ];
+        gnss.push(sink.add_channel::<GnssFix>(
+            &Topics::gnss(g.vehicle_id, &g.id)?,
+            metadata([
+                ("unit", "m, m/s"),
+                ("sample_rate_hz", values[0].as_str()),
+                ("position_noise_m", values[1].as_str()),
+                ("position_correlation_s", values[2].as_str()),
+                ("speed_noise_m_s", values[3].as_str()),
+                (
+                    "content",
+                    "position of the front axle on the road axis (the bridge's x) and speed, \
+                     with the receiver's error; the truth is on /truth/vehicle_state",
+                ),
+            ]),
+        )?);
+    }
+    let mut detectors = Vec::new();
+    for d in &manifest.axle_detectors {
+        let values = [
+            format!("{}", d.position_m),
+            d.lane.map_or("all".to_string(), |l| l.to_string()),
+            format!("{}", d.jitter_s),
+            format!("{}", d.miss_probability),
+        ];
+        let ch = sink.add_channel::<AxleDetection>(
+            &Topics::axle_detector(&d.id)?,
+            metadata([
+                ("position_m", values[0].as_str()),
+                ("lane", values[1].as_str()),
+                ("jitter_s", values[2].as_str()),
+                ("miss_probability", values[3].as_str()),
+                (
+                    "content",
+                    "one message per axle detected: detected_time is the detector's time of the \
+                     crossing (true instant plus jitter); timestamp = log time = the first \
+                     solver instant after it",
+                ),
+            ]),
+        )?;
+        detectors.push((d.id.clone(), ch));
+    }
+    let detections = match manifest.axle_detectors.is_empty() {
+        true => None,
+        false => Some(sink.add_channel::<AxleDetectionTruth>(
+            Topics::AXLE_DETECTIONS,
+            metadata([(
+                "content",
+                "every axle crossing of every detector: crossing_time is the true instant, \
+                 detected and detected_time what the detector made of it",
+            )]),
+        )?),
+    };
+    let rate = format!("{}", manifest.rates.axle_load_rate_hz);
+    let mut states = Vec::new();
+    for v in &manifest.instrumented_vehicles {
+        let names = v.dof_names.join(",");
+        let ch = sink.add_channel::<VehicleState>(
+            &Topics::vehicle_state(v.vehicle_id),
+            metadata([
+                ("sample_rate_hz", rate.as_str()),
+                ("model", v.model.as_str()),
+                ("dof_names", names.as_str()),
+                (
+                    "sign",
+                    "vehicle DOFs upward positive; deck deflection and acceleration downward \
+                     positive; elevations upward positive",
+                ),
+            ]),
+        )?;
+        states.push((v.vehicle_id, ch));
+    }
+    Ok((gnss, detectors, detections, states))
 }
 
 /// The metadata records `bridgetwin`, `scenario`, `bridge_model` and the attachments
@@ -263,7 +373,18 @@ fn sensor_channels<W: Write + Seek>(
 ) -> Result<SensorChannels> {
     let layout = manifest.layout;
     let mut meta = sensor_metadata(manifest, sensor);
-    let topic = Topics::sensor(sensor.kind, &sensor.id)?;
+    let topic = match &sensor.vehicle {
+        Some(v) => {
+            meta.insert("vehicle_id".into(), v.vehicle_id.to_string());
+            meta.insert("mount".into(), v.mount.clone());
+            meta.insert(
+                "sign".into(),
+                "downward positive (as the bridge's accelerometers)".into(),
+            );
+            Topics::vehicle_sensor(sensor.kind, v.vehicle_id, &sensor.id)?
+        }
+        None => Topics::sensor(sensor.kind, &sensor.id)?,
+    };
     let measured = match (layout, sensor.kind) {
         (Layout::Block, _) => sink.add_channel::<SampleBlock>(&topic, meta.clone())?,
         (_, SensorKind::Accelerometer) => {

@@ -379,7 +379,10 @@ fn at(record: &Record, t_ns: u64) -> Record {
         | Record::BridgeShape { t_ns: t, .. }
         | Record::Vehicle { t_ns: t, .. }
         | Record::Wim { t_ns: t, .. }
-        | Record::Event { t_ns: t, .. } => *t = t_ns,
+        | Record::Event { t_ns: t, .. }
+        | Record::Gnss { t_ns: t, .. }
+        | Record::AxleHit { t_ns: t, .. }
+        | Record::VehicleState { t_ns: t, .. } => *t = t_ns,
     }
     record
 }

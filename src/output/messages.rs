@@ -5,11 +5,15 @@ use prost_types::Timestamp;
 
 use super::proto::foxglove::{log::Level, Log};
 use super::proto::v1::{
-    AxleGroup as WimAxleGroup, AxleLoad, AxleLoads, FaultInterval, TravelDirection, VehicleTruth,
-    WimRecord,
+    AxleDetection, AxleDetectionTruth, AxleGroup as WimAxleGroup, AxleLoad, AxleLoads,
+    ContactPoint as ContactMessage, FaultInterval, GnssFix as GnssMessage, TravelDirection,
+    VehicleState, VehicleTruth, WimRecord,
 };
 use super::timestamp_from_ns;
-use crate::record::{AxleState, EventLevel, LoadReference, VehicleRecord, WimMeasurement};
+use crate::record::{
+    AxleHit, AxleState, EventLevel, GnssFix, LoadReference, VehicleRecord, VehicleStateRecord,
+    WimMeasurement,
+};
 
 /// A `foxglove.Log` entry from bridgetwin.
 pub(super) fn log(timestamp: Option<Timestamp>, level: EventLevel, message: String) -> Log {
@@ -144,4 +148,74 @@ pub(super) fn fault(
     };
     let line = log(Some(timestamp_from_ns(time)), EventLevel::Warning, text);
     (interval, line)
+}
+
+/// One GNSS fix as the receiver reports it (the truth is on the vehicle's state).
+pub(super) fn gnss(timestamp: Option<Timestamp>, fix: &GnssFix, sigma_m: f64) -> GnssMessage {
+    GnssMessage {
+        timestamp,
+        vehicle_id: fix.vehicle_id,
+        position_m: fix.position_m,
+        speed_m_s: fix.speed_m_s,
+        position_sigma_m: sigma_m,
+    }
+}
+
+/// A detector's report of one axle (`None` when it missed it) and the truth of the
+/// crossing, both written at `timestamp` (the solver instant after the crossing);
+/// `start_time_ns` turns run times into stamps.
+pub(super) fn axle_hit(
+    timestamp: Option<Timestamp>,
+    start_time_ns: u64,
+    detector_id: &str,
+    hit: &AxleHit,
+) -> (Option<AxleDetection>, AxleDetectionTruth) {
+    let detected = hit
+        .stamp_ns
+        .map(|s| timestamp_from_ns(start_time_ns.saturating_add_signed(s)));
+    let measured = detected.map(|t| AxleDetection {
+        timestamp,
+        detector_id: detector_id.to_string(),
+        detected_time: Some(t),
+    });
+    let truth = AxleDetectionTruth {
+        timestamp,
+        detector_id: detector_id.to_string(),
+        vehicle_id: hit.vehicle_id,
+        axle_index: hit.axle_index,
+        lane: hit.lane,
+        speed_m_s: hit.speed_m_s,
+        detected: detected.is_some(),
+        detected_time: detected,
+        crossing_time: Some(timestamp_from_ns(start_time_ns + hit.true_ns)),
+    };
+    (measured, truth)
+}
+
+/// An instrumented vehicle's state.
+pub(super) fn vehicle_state(timestamp: Option<Timestamp>, s: VehicleStateRecord) -> VehicleState {
+    VehicleState {
+        timestamp,
+        vehicle_id: s.vehicle_id,
+        position_m: s.position_m,
+        speed_m_s: s.speed_m_s,
+        dof_displacement: s.displacement,
+        dof_velocity: s.velocity,
+        dof_acceleration: s.acceleration,
+        contacts: s
+            .contacts
+            .iter()
+            .enumerate()
+            .map(|(j, c)| ContactMessage {
+                axle_index: j as u32,
+                position_m: c.position_m,
+                road_elevation_m: c.road_elevation_m,
+                bridge_deflection_m: c.bridge_deflection_m,
+                contact_elevation_m: c.road_elevation_m - c.bridge_deflection_m,
+                bridge_acceleration_m_s2: c.bridge_acceleration_m_s2,
+                force_n: c.force_n,
+                on_bridge: c.on_bridge,
+            })
+            .collect(),
+    }
 }

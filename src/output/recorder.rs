@@ -32,6 +32,8 @@ struct Run {
     blocked: bool,
     /// The 3D scene, if the run writes it.
     scene: Option<SceneState>,
+    /// Each GNSS receiver's configured position sigma (m), manifest order.
+    gnss_sigma_m: Vec<f64>,
 }
 
 /// The scene's inputs between updates.
@@ -406,6 +408,40 @@ impl<'a, W: Write + Seek> McapRecorder<'a, W> {
                 self.sink
                     .write(channel, time, &messages::log(ts, level, text))
             }
+            Record::Gnss { receiver, fix, .. } => {
+                let channel = ch.gnss[receiver];
+                let sigma_m = run.gnss_sigma_m[receiver];
+                self.sink
+                    .write(channel, time, &messages::gnss(ts, &fix, sigma_m))
+            }
+            Record::AxleHit { detector, hit, .. } => {
+                let (id, channel) = &ch.axle_detectors[detector];
+                let (measured, truth) = messages::axle_hit(ts, start_time_ns, id, &hit);
+                let (channel, truth_channel) = (*channel, ch.axle_detections);
+                if let Some(truth_channel) = truth_channel {
+                    // Both are written at the solver instant after the crossing; the
+                    // crossing's true and detected times are fields.
+                    self.sink.write(truth_channel, time, &truth)?;
+                }
+                match measured {
+                    Some(m) => {
+                        self.messages += 1;
+                        self.sink.write(channel, time, &m)
+                    }
+                    None => Ok(()),
+                }
+            }
+            Record::VehicleState { state, .. } => {
+                let Some(&(_, channel)) = ch
+                    .vehicle_states
+                    .iter()
+                    .find(|(id, _)| *id == state.vehicle_id)
+                else {
+                    return Ok(());
+                };
+                self.sink
+                    .write(channel, time, &messages::vehicle_state(ts, *state))
+            }
         }
     }
 
@@ -518,6 +554,7 @@ impl<W: Write + Seek> Recorder for McapRecorder<'_, W> {
                 axles: Vec::new(),
                 shapes: 0,
             }),
+            gnss_sigma_m: manifest.gnss.iter().map(|g| g.position_noise_m).collect(),
         });
         self.write_modal_state(manifest)
     }

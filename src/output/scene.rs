@@ -99,6 +99,8 @@ impl SceneGeometry {
             sensors: manifest
                 .sensors
                 .iter()
+                // A sensor riding on a vehicle moves with it: the deck shows only its own.
+                .filter(|s| s.vehicle.is_none())
                 .map(|s| (s.id.clone(), s.kind, s.position_m))
                 .collect(),
             wim: manifest

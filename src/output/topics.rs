@@ -20,6 +20,8 @@ impl Topics {
     pub const FAULTS: &'static str = "/truth/faults";
     /// Events as `foxglove.Log`.
     pub const EVENTS: &'static str = "/events";
+    /// Every crossing of every road axle detector, detected or missed.
+    pub const AXLE_DETECTIONS: &'static str = "/truth/axle_detections";
     /// The 3D scene as `foxglove.SceneUpdate`.
     pub const SCENE: &'static str = "/scene";
     /// Suffix of a sensor's block-layout topic when both layouts are written in one file
@@ -79,6 +81,30 @@ impl Topics {
             SensorKind::LoadCell => "load",
             SensorKind::Thermometer => "temp",
         }
+    }
+
+    /// `/vehicles/<vehicle>/<segment>/<id>`: a sensor riding on a vehicle, as recorded.
+    pub fn vehicle_sensor(kind: SensorKind, vehicle_id: u32, id: &str) -> Result<String> {
+        Self::with_segment(
+            &format!("/vehicles/{vehicle_id}/{}/", Self::segment(kind)),
+            "sensor id",
+            id,
+        )
+    }
+
+    /// `/vehicles/<vehicle>/gnss/<id>`: a GNSS receiver's fixes.
+    pub fn gnss(vehicle_id: u32, id: &str) -> Result<String> {
+        Self::with_segment(&format!("/vehicles/{vehicle_id}/gnss/"), "GNSS id", id)
+    }
+
+    /// `/sensors/axle/<id>`: the axles a road axle detector reports.
+    pub fn axle_detector(id: &str) -> Result<String> {
+        Self::with_segment("/sensors/axle/", "axle detector id", id)
+    }
+
+    /// `/truth/vehicle_state/<vehicle>`: an instrumented vehicle's DOFs and contact points.
+    pub fn vehicle_state(vehicle_id: u32) -> String {
+        format!("/truth/vehicle_state/{vehicle_id}")
     }
 
     /// `/truth/sensors/<id>`: noise-free response at the sensor location.

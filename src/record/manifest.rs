@@ -117,7 +117,10 @@ pub struct SensorChannelInfo {
     pub rate: ExactRate,
     /// The rate as the scenario wrote it (Hz), for metadata.
     pub rate_hz: f64,
+    /// Position along the girder (m); 0 for a sensor on a vehicle.
     pub position_m: f64,
+    /// The vehicle the sensor rides on, if not the bridge.
+    pub vehicle: Option<VehicleMountInfo>,
     /// The measurement chain preset, or `white_noise`.
     pub model: String,
     /// White-noise density of the chain (unit per sqrt(Hz)).
@@ -132,6 +135,14 @@ pub struct SensorChannelInfo {
     pub has_faults: bool,
     /// The preview channels of the sensor, if the run writes them.
     pub preview: Option<PreviewInfo>,
+}
+
+/// Where a sensor rides on a vehicle.
+#[derive(Debug, Clone, PartialEq)]
+pub struct VehicleMountInfo {
+    pub vehicle_id: u32,
+    /// "axle 1", "body, 1.5 m behind the front axle".
+    pub mount: String,
 }
 
 /// A sensor's preview: its streams decimated by a whole factor for viewers.
@@ -170,6 +181,38 @@ pub struct WimStationInfo {
     pub model: String,
 }
 
+/// A GNSS receiver on a vehicle.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GnssInfo {
+    pub id: String,
+    pub vehicle_id: u32,
+    pub rate_hz: f64,
+    pub position_noise_m: f64,
+    pub correlation_s: f64,
+    pub speed_noise_m_s: f64,
+}
+
+/// A road axle detector.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AxleDetectorInfo {
+    pub id: String,
+    pub position_m: f64,
+    /// Only this lane's vehicles; `None`: every lane.
+    pub lane: Option<u32>,
+    pub jitter_s: f64,
+    pub miss_probability: f64,
+}
+
+/// A vehicle carrying instruments: its state is written at the axle-load rate.
+#[derive(Debug, Clone, PartialEq)]
+pub struct InstrumentedVehicleInfo {
+    pub vehicle_id: u32,
+    /// The model's name ("half_car/drive_by_van").
+    pub model: String,
+    /// Names of its DOFs, the order of the state's DOF arrays.
+    pub dof_names: Vec<String>,
+}
+
 /// Rates of the truth streams.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct StreamRates {
@@ -187,6 +230,12 @@ pub struct RunManifest {
     pub sensors: Vec<SensorChannelInfo>,
     /// In scenario order: `WimRecordData::station` indexes this list.
     pub wim_stations: Vec<WimStationInfo>,
+    /// In scenario order: `Record::Gnss { receiver, .. }` indexes this list.
+    pub gnss: Vec<GnssInfo>,
+    /// In scenario order: `Record::AxleHit { detector, .. }` indexes this list.
+    pub axle_detectors: Vec<AxleDetectorInfo>,
+    /// The vehicles whose state goes to `/truth/vehicle_state/<id>`, ascending id.
+    pub instrumented_vehicles: Vec<InstrumentedVehicleInfo>,
     pub rates: StreamRates,
     pub layout: Layout,
     /// Samples per block message (block layout).
@@ -228,6 +277,9 @@ impl RunManifest {
             },
             sensors: Vec::new(),
             wim_stations: Vec::new(),
+            gnss: Vec::new(),
+            axle_detectors: Vec::new(),
+            instrumented_vehicles: Vec::new(),
             rates: StreamRates {
                 axle_load_rate_hz: 200.0,
                 bridge_state_rate_hz: 20.0,

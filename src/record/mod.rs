@@ -16,11 +16,13 @@ mod wim;
 
 pub use forecast::{ForecastRecords, RecordForecast, SensorForecast};
 pub use manifest::{
-    BridgeSummary, ChainParameter, DaqClockInfo, GirderSummary, Layout, PreviewInfo, RoadSummary,
-    RunInfo, RunManifest, SceneInfo, SensorChannelInfo, StreamRates, WimStationInfo,
+    AxleDetectorInfo, BridgeSummary, ChainParameter, DaqClockInfo, GirderSummary, GnssInfo,
+    InstrumentedVehicleInfo, Layout, PreviewInfo, RoadSummary, RunInfo, RunManifest, SceneInfo,
+    SensorChannelInfo, StreamRates, VehicleMountInfo, WimStationInfo,
 };
 pub use quantities::{Quantities, SensorKind};
 pub use records::{
-    AxleState, EventLevel, ModalRecord, Record, Recorder, VecRecorder, VehicleRecord, WimRecordData,
+    AxleHit, AxleState, ContactPoint, EventLevel, GnssFix, ModalRecord, Record, Recorder,
+    VecRecorder, VehicleRecord, VehicleStateRecord, WimRecordData,
 };
 pub use wim::{AppliedErrors, AxleGroup, LoadReference, WimMeasurement};

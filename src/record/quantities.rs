@@ -96,6 +96,18 @@ impl SensorKind {
         SensorKind::Thermometer,
     ];
 
+    /// The kind as a scenario writes it (`kind = "load_cell"`).
+    pub const fn name(self) -> &'static str {
+        match self {
+            SensorKind::Accelerometer => "accelerometer",
+            SensorKind::Strain => "strain",
+            SensorKind::Displacement => "displacement",
+            SensorKind::Inclinometer => "inclinometer",
+            SensorKind::LoadCell => "load_cell",
+            SensorKind::Thermometer => "thermometer",
+        }
+    }
+
     /// Unit of the recorded value.
     pub fn unit(self) -> &'static str {
         match self {

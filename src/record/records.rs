@@ -66,6 +66,65 @@ pub struct ModalRecord {
     pub support_settlement_m: Vec<f64>,
 }
 
+/// One fix of a GNSS receiver: what it reports (measured) and the truth beside it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GnssFix {
+    pub vehicle_id: u32,
+    /// Front-axle position on the road axis as measured (m, the bridge's x).
+    pub position_m: f64,
+    /// Speed over ground as measured (m/s, >= 0 up to noise).
+    pub speed_m_s: f64,
+    pub true_position_m: f64,
+    pub true_speed_m_s: f64,
+}
+
+/// One axle crossing a road axle detector.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AxleHit {
+    pub vehicle_id: u32,
+    /// Axle number from the front, from 0.
+    pub axle_index: u32,
+    pub lane: u32,
+    /// The true instant of the crossing (ns since the run start).
+    pub true_ns: u64,
+    /// The detector's stamp (ns since the run start; the jitter may put it before
+    /// `true_ns`), `None` when it missed the axle.
+    pub stamp_ns: Option<i64>,
+    pub speed_m_s: f64,
+}
+
+/// Where one wheel of an instrumented vehicle touches the road.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactPoint {
+    /// Position on the road axis (m, the bridge's x).
+    pub position_m: f64,
+    /// Road profile elevation there (m, upward positive).
+    pub road_elevation_m: f64,
+    /// Deflection of the deck there (m, downward positive; 0 off the bridge).
+    pub bridge_deflection_m: f64,
+    /// Deck acceleration at the fixed point under the wheel (m/s^2, downward positive;
+    /// 0 off the bridge).
+    pub bridge_acceleration_m_s2: f64,
+    /// Tyre force (N, compression positive).
+    pub force_n: f64,
+    pub on_bridge: bool,
+}
+
+/// The state of an instrumented vehicle at one instant.
+#[derive(Debug, Clone, PartialEq)]
+pub struct VehicleStateRecord {
+    pub vehicle_id: u32,
+    /// Front-axle position (m).
+    pub position_m: f64,
+    pub speed_m_s: f64,
+    /// DOF displacements, velocities, accelerations (upward positive; manifest order).
+    pub displacement: Vec<f64>,
+    pub velocity: Vec<f64>,
+    pub acceleration: Vec<f64>,
+    /// One per axle, front first.
+    pub contacts: Vec<ContactPoint>,
+}
+
 /// A record with its time.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Record {
@@ -127,6 +186,24 @@ pub enum Record {
         level: EventLevel,
         text: String,
     },
+    /// A fix of GNSS receiver `receiver` (index into the manifest's `gnss`).
+    Gnss {
+        t_ns: u64,
+        receiver: usize,
+        fix: GnssFix,
+    },
+    /// An axle crossing detector `detector` (index into the manifest's `axle_detectors`);
+    /// `t_ns` is the solver instant at or after the true crossing.
+    AxleHit {
+        t_ns: u64,
+        detector: usize,
+        hit: AxleHit,
+    },
+    /// The state of an instrumented vehicle.
+    VehicleState {
+        t_ns: u64,
+        state: Box<VehicleStateRecord>,
+    },
 }
 
 impl Record {
@@ -140,7 +217,10 @@ impl Record {
             | Record::BridgeShape { t_ns, .. }
             | Record::Vehicle { t_ns, .. }
             | Record::Wim { t_ns, .. }
-            | Record::Event { t_ns, .. } => *t_ns,
+            | Record::Event { t_ns, .. }
+            | Record::Gnss { t_ns, .. }
+            | Record::AxleHit { t_ns, .. }
+            | Record::VehicleState { t_ns, .. } => *t_ns,
         }
     }
 }

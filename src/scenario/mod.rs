@@ -1,6 +1,7 @@
 //! Scenario: TOML -> validated `Scenario`. Every field is checked once, here, and errors
 //! name the field path (`sensors.2.rate_hz = 5000 ...`).
 
+mod instruments;
 mod parse_error;
 mod resolve;
 #[cfg(test)]
@@ -26,6 +27,7 @@ use crate::physics::solver::{ContactLaw, NewmarkParams};
 use crate::physics::vehicle::VehicleModelSpec;
 pub use crate::record::{Layout, SensorKind};
 
+pub use instruments::{AxleDetectorSpec, GnssSpec, VehicleMountSpec};
 use parse_error::toml_error;
 use resolve::unique_segment;
 pub use resolve::{F1_RANGE_HZ, MAX_DURATION_S, MAX_ROAD_M, MAX_SPAN_M, MAX_SPEED_M_S, MAX_STEPS};
@@ -76,6 +78,13 @@ pub struct Scenario {
     /// Weigh-in-motion strips on the approach.
     #[serde(default)]
     pub wim_stations: Vec<WimStationSpec>,
+    /// GNSS receivers on vehicles: position along the road and speed, with their noise.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub gnss: Vec<instruments::GnssSpec>,
+    /// Road axle detectors (tape switches): the time each axle crosses them, with timing
+    /// jitter and missed axles.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub axle_detectors: Vec<instruments::AxleDetectorSpec>,
     /// Generated traffic (lanes, flows, class mix): vehicles arrive during the run, next to
     /// the `[[vehicles]]` listed; needs `duration_s`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -359,8 +368,17 @@ pub struct SensorSpec {
     /// What the sensor measures.
     pub kind: SensorKind,
     /// Position along the girder (m, in [0, length]); a load cell's is a support's.
+    /// Required for a bridge sensor, refused for one on a vehicle.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schemars(range(min = 0, max = resolve::MAX_SPAN_M))]
-    pub position_m: f64,
+    pub position_m: Option<f64>,
+    /// An accelerometer riding on a vehicle instead of the bridge: `{ id = 1, axle = 1 }`
+    /// (on the unsprung mass of axle 1, the front) or `{ id = 1, body_offset_m = 1.5 }`
+    /// (on the body, 1.5 m behind the front axle). Its topic is
+    /// `/vehicles/<vehicle id>/accel/<id>`; the vehicle's DOFs and contact points go to
+    /// `/truth/vehicle_state/<vehicle id>`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub vehicle: Option<instruments::VehicleMountSpec>,
     /// DAQ sample rate (Hz, <= 1/dt; need not divide it).
     #[schemars(transform = bounds::positive)]
     pub rate_hz: f64,

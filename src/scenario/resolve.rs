@@ -145,7 +145,16 @@ impl Scenario {
         if let Some(ambient) = &self.ambient {
             ambient.validate("ambient", self.bridge.length_m(), dt_s)?;
         }
-        let sensors = self.resolve_sensors(dt_ns)?;
+        let sensors = self.resolve_sensors(dt_ns, &vehicles)?;
+        self.check_gnss(&vehicles, dt_ns)?;
+        self.check_axle_detectors()?;
+        let instrumented_vehicles: Vec<u32> = sensors
+            .iter()
+            .filter_map(|s| s.mount.as_ref().map(|m| m.vehicle_id))
+            .chain(self.gnss.iter().map(|g| g.vehicle))
+            .collect::<std::collections::BTreeSet<u32>>()
+            .into_iter()
+            .collect();
         let wim_stations = self.resolve_wim_stations()?;
         if self.output.block_samples == 0 || self.output.block_samples > 100_000 {
             return Err(Error::invalid(
@@ -233,6 +242,7 @@ impl Scenario {
             sensors,
             node_clocks,
             wim_stations,
+            instrumented_vehicles,
             axle_stride,
             bridge_stride,
             flush_every_ns: (flush_every_s * 1e9).round() as u64,

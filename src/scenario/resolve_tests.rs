@@ -58,7 +58,7 @@ fn sensor_warnings_name_the_sensor() {
 
 #[test]
 fn a_sensor_on_a_support_is_a_warning_and_one_a_millimetre_off_it_is_not() {
-    let w = warnings_of(|s| s.sensors[0].position_m = 0.0);
+    let w = warnings_of(|s| s.sensors[0].position_m = Some(0.0));
     assert_eq!(w.len(), 1, "{w:#?}");
     let id = &Scenario::default_scenario().sensors[0].id;
     assert!(
@@ -67,11 +67,11 @@ fn a_sensor_on_a_support_is_a_warning_and_one_a_millimetre_off_it_is_not() {
         )),
         "{w:#?}"
     );
-    let w = warnings_of(|s| s.sensors[3].position_m = 30.0);
+    let w = warnings_of(|s| s.sensors[3].position_m = Some(30.0));
     assert!(w[0].contains("on the support at x = 30 m"), "{w:#?}");
     // 2 mm in: a small but real response (sin(pi x / L) = 2e-4), no warning.
     assert_eq!(
-        warnings_of(|s| s.sensors[0].position_m = 0.002),
+        warnings_of(|s| s.sensors[0].position_m = Some(0.002)),
         Vec::<String>::new()
     );
 }

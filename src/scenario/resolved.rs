@@ -39,10 +39,25 @@ pub struct ResolvedVehicle {
     pub direction: i8,
 }
 
+/// Where a sensor rides on a vehicle.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ResolvedMount {
+    pub vehicle_id: u32,
+    /// The vehicle DOFs whose combination is the mount's vertical motion (upward
+    /// positive): `[(dof, coefficient)]`.
+    pub dofs: Vec<(usize, f64)>,
+    /// "axle 1", "body, 1.5 m behind the front axle".
+    pub label: String,
+}
+
 /// A sensor with its defaults filled in.
 #[derive(Debug, Clone)]
 pub struct ResolvedSensor {
     pub spec: SensorSpec,
+    /// Position along the girder (m); 0 for a sensor on a vehicle.
+    pub position_m: f64,
+    /// The vehicle it rides on, if not the bridge.
+    pub mount: Option<ResolvedMount>,
     pub noise_density: f64,
     /// Distance of a strain gauge from the neutral axis (m): positive below it (bottom
     /// fibre), negative above it (top fibre).
@@ -105,6 +120,9 @@ pub struct Resolved {
     pub node_clocks: Vec<ClockError>,
     /// The weigh-in-motion stations, scenario order.
     pub wim_stations: Vec<WimStation>,
+    /// Ids of the vehicles carrying a sensor or a GNSS receiver, ascending: their DOFs and
+    /// contact points go to `/truth/vehicle_state/<id>`.
+    pub instrumented_vehicles: Vec<u32>,
     /// Solver steps between `/truth/axle_loads` messages.
     pub axle_stride: u64,
     /// Solver steps between deflected shapes on `/truth/bridge`.
@@ -185,7 +203,8 @@ impl Resolved {
             if let Some(warning) = on_a_support(i, r, &s.bridge.girder()) {
                 out.push(warning);
             }
-            if band_edge_hz < f1 {
+            // A thermometer records a quantity that drifts over hours, not the vibration.
+            if band_edge_hz < f1 && r.spec.kind != SensorKind::Thermometer {
                 out.push(format!(
                     "{}.rate_hz = {}: the recorded band ends at {} Hz, below the \
                      first bridge mode f1 = {f1:.3} Hz",
@@ -251,7 +270,10 @@ const ON_SUPPORT_M: f64 = 1e-3;
 /// (every mode shape is zero) and, at a pinned end, bends nothing either. A strain gauge
 /// over an interior or clamped support reads the hogging moment: no warning for it there.
 fn on_a_support(i: usize, sensor: &ResolvedSensor, girder: &Girder) -> Option<String> {
-    let x = sensor.spec.position_m;
+    if sensor.mount.is_some() {
+        return None;
+    }
+    let x = sensor.position_m;
     let supports = girder.support_positions_m();
     let last = supports.len() - 1;
     let (k, support_m) = supports

@@ -5,7 +5,7 @@ use std::collections::BTreeSet;
 
 use rand_chacha::ChaCha8Rng;
 
-use super::resolved::ResolvedSensor;
+use super::resolved::{ResolvedMount, ResolvedSensor, ResolvedVehicle};
 use super::{
     default_noise_density, unique_segment, Layout, Scenario, SensorKind, SensorSpec,
     DEFAULT_PREVIEW_RATE_HZ,
@@ -32,7 +32,11 @@ pub fn sensor_streams(seed: u64, id: &str) -> impl FnMut(&str) -> ChaCha8Rng + '
 }
 
 impl Scenario {
-    pub(super) fn resolve_sensors(&self, dt_ns: u64) -> Result<Vec<ResolvedSensor>> {
+    pub(super) fn resolve_sensors(
+        &self,
+        dt_ns: u64,
+        vehicles: &[ResolvedVehicle],
+    ) -> Result<Vec<ResolvedSensor>> {
         let mut ids = BTreeSet::new();
         let solver_rate_hz = 1e9 / dt_ns as f64;
         let preview_rate_hz = self.preview_rate_hz()?;
@@ -45,17 +49,7 @@ impl Scenario {
                 &s.id,
                 "is used twice (sensor ids must be unique)",
             )?;
-            let p = s.position_m;
-            if !(p.is_finite() && (0.0..=self.bridge.length_m()).contains(&p)) {
-                return Err(Error::invalid(
-                    format!("{path}.position_m"),
-                    num(p),
-                    format!("must lie on the span [0, {}] m", self.bridge.length_m()),
-                ));
-            }
-            if s.kind == SensorKind::LoadCell {
-                self.check_on_support(&format!("{path}.position_m"), p)?;
-            }
+            let (position_m, mount) = self.sensor_place(s, &path, vehicles)?;
             require_positive(&format!("{path}.rate_hz"), s.rate_hz)?;
             if s.rate_hz > solver_rate_hz * (1.0 + 1e-12) {
                 return Err(Error::invalid(
@@ -128,6 +122,8 @@ impl Scenario {
             // rate is the stream itself.
             let preview_factor = preview_rate_hz.map(|p| (s.rate_hz / p).round().max(1.0) as u64);
             out.push(ResolvedSensor {
+                position_m,
+                mount,
                 preview_factor,
                 rate: design.rate(),
                 spec: s.clone(),
@@ -140,6 +136,53 @@ impl Scenario {
             });
         }
         Ok(out)
+    }
+
+    /// Where sensor `s` sits: a position on the girder, or a mount on a vehicle (an
+    /// accelerometer only, with no position).
+    fn sensor_place(
+        &self,
+        s: &SensorSpec,
+        path: &str,
+        vehicles: &[ResolvedVehicle],
+    ) -> Result<(f64, Option<ResolvedMount>)> {
+        match (&s.vehicle, s.position_m) {
+            (Some(mount), None) => {
+                if s.kind != SensorKind::Accelerometer {
+                    return Err(Error::invalid(
+                        format!("{path}.kind"),
+                        format!("\"{}\"", s.kind.name()),
+                        "cannot ride on a vehicle: only accelerometers do (the vehicle's \
+                         DOFs and contact points are on /truth/vehicle_state)",
+                    ));
+                }
+                Ok((0.0, Some(self.resolve_mount(mount, path, vehicles)?)))
+            }
+            (Some(_), Some(p)) => Err(Error::invalid(
+                format!("{path}.position_m"),
+                num(p),
+                "is for a bridge sensor: a sensor on a vehicle moves with it (give one of \
+                 position_m or vehicle)",
+            )),
+            (None, None) => Err(Error::invalid(
+                format!("{path}.position_m"),
+                "(missing)",
+                "is required for a sensor on the bridge (or give vehicle = { id = .., axle = .. })",
+            )),
+            (None, Some(p)) => {
+                if !(p.is_finite() && (0.0..=self.bridge.length_m()).contains(&p)) {
+                    return Err(Error::invalid(
+                        format!("{path}.position_m"),
+                        num(p),
+                        format!("must lie on the span [0, {}] m", self.bridge.length_m()),
+                    ));
+                }
+                if s.kind == SensorKind::LoadCell {
+                    self.check_on_support(&format!("{path}.position_m"), p)?;
+                }
+                Ok((p, None))
+            }
+        }
     }
 
     /// A load cell measures a support's reaction: `x_m` must be a support's position

@@ -4,8 +4,9 @@
 use crate::error::Result;
 use crate::measurement::wim::WimModelSpec;
 use crate::record::{
-    BridgeSummary, DaqClockInfo, GirderSummary, PreviewInfo, RoadSummary, RunInfo, RunManifest,
-    SensorChannelInfo, StreamRates, WimStationInfo,
+    AxleDetectorInfo, BridgeSummary, DaqClockInfo, GirderSummary, GnssInfo,
+    InstrumentedVehicleInfo, PreviewInfo, RoadSummary, RunInfo, RunManifest, SensorChannelInfo,
+    StreamRates, VehicleMountInfo, WimStationInfo,
 };
 use crate::scenario::{Resolved, ResolvedSensor, SensorKind};
 
@@ -61,6 +62,39 @@ pub fn manifest(resolved: &Resolved, prepared: &Prepared) -> Result<RunManifest>
                 model: wim_model_label(&w.model),
             })
             .collect(),
+        gnss: s
+            .gnss
+            .iter()
+            .map(|g| GnssInfo {
+                id: g.id.clone(),
+                vehicle_id: g.vehicle,
+                rate_hz: g.rate_hz,
+                position_noise_m: g.position_noise_m,
+                correlation_s: g.correlation_s,
+                speed_noise_m_s: g.speed_noise_m_s,
+            })
+            .collect(),
+        axle_detectors: s
+            .axle_detectors
+            .iter()
+            .map(|d| AxleDetectorInfo {
+                id: d.id.clone(),
+                position_m: d.position_m,
+                lane: d.lane,
+                jitter_s: d.jitter_s,
+                miss_probability: d.miss_probability,
+            })
+            .collect(),
+        instrumented_vehicles: resolved
+            .instrumented_vehicles
+            .iter()
+            .filter_map(|&id| resolved.vehicles.iter().find(|v| v.id == id))
+            .map(|v| InstrumentedVehicleInfo {
+                vehicle_id: v.id,
+                model: v.dynamics.name.clone(),
+                dof_names: v.dynamics.dof_names.clone(),
+            })
+            .collect(),
         rates: StreamRates {
             axle_load_rate_hz: s.output.axle_load_rate_hz,
             bridge_state_rate_hz: s.output.bridge_state_rate_hz,
@@ -96,7 +130,11 @@ fn sensor_info(resolved: &Resolved, sensor: &ResolvedSensor) -> SensorChannelInf
         kind: spec.kind,
         rate: sensor.rate,
         rate_hz: spec.rate_hz,
-        position_m: spec.position_m,
+        position_m: sensor.position_m,
+        vehicle: sensor.mount.as_ref().map(|m| VehicleMountInfo {
+            vehicle_id: m.vehicle_id,
+            mount: m.label.clone(),
+        }),
         model: sensor.model_name().to_string(),
         noise_density_per_sqrt_hz,
         chain,

@@ -7,6 +7,7 @@
 mod condition;
 mod daq;
 mod forecast;
+mod instruments;
 mod manifest;
 mod preview;
 mod probes;
@@ -236,6 +237,7 @@ pub fn run_controlled(
         text: start_text(resolved, model),
     });
     let mut tracker = Tracker::new(resolved, model.length_m())?;
+    let mut instruments = instruments::Instruments::new(resolved);
     let hint = divergence_hint(&resolved.newmark);
     let mut peak_midspan_m = 0.0f64;
     let mut resyncs = daq::Resyncs::new(resolved);
@@ -308,6 +310,17 @@ pub fn run_controlled(
                 modal,
                 support_reaction_n: probes.reaction_n.clone(),
             });
+        }
+        if instruments.any() {
+            let state_due = step % resolved.axle_stride == 0;
+            instruments.observe(
+                &solver,
+                &prepared.road,
+                &tracker,
+                step,
+                state_due,
+                &mut merger.truth,
+            );
         }
         tracker.observe(&solver, step, &mut merger.truth);
         tracker.drop_departed(&mut solver);

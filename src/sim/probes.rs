@@ -23,6 +23,8 @@ struct SensorProbe {
     support: Option<usize>,
     inclinometer: bool,
     thermometer: bool,
+    /// A sensor riding on a vehicle: (vehicle id, its DOF combination, upward positive).
+    mount: Option<(u32, Vec<(usize, f64)>)>,
     /// The settlements' static (displacement m downward, rotation rad, moment N m) here.
     settled: (f64, f64, f64),
 }
@@ -71,10 +73,14 @@ impl Probes {
             .iter()
             .map(|sensor| SensorProbe {
                 support: (sensor.spec.kind == SensorKind::LoadCell)
-                    .then(|| nearest(sensor.spec.position_m))
+                    .then(|| nearest(sensor.position_m))
                     .flatten(),
                 inclinometer: sensor.spec.kind == SensorKind::Inclinometer,
                 thermometer: sensor.spec.kind == SensorKind::Thermometer,
+                mount: sensor
+                    .mount
+                    .as_ref()
+                    .map(|m| (m.vehicle_id, m.dofs.clone())),
                 ..SensorProbe::default()
             })
             .collect();
@@ -110,7 +116,7 @@ impl Probes {
 
     fn operators(&mut self, model: &BridgeModel, resolved: &Resolved) {
         for (probe, sensor) in self.sensors.iter_mut().zip(&resolved.sensors) {
-            let x = sensor.spec.position_m;
+            let x = sensor.position_m;
             model.point_operator(x, PointQuantity::Deflection, &mut probe.deflection);
             model.point_operator(x, PointQuantity::Slope, &mut probe.slope);
             model.point_operator(x, PointQuantity::Moment, &mut probe.moment);
@@ -147,7 +153,7 @@ impl Probes {
         };
         let values = field.node_values(settlement_m);
         for (probe, sensor) in self.sensors.iter_mut().zip(&resolved.sensors) {
-            let x = sensor.spec.position_m;
+            let x = sensor.position_m;
             probe.settled = (
                 -field.read(&values, x, PointQuantity::Deflection),
                 -field.read(&values, x, PointQuantity::Slope),
@@ -217,6 +223,9 @@ impl Probes {
     /// is upward positive).
     pub(super) fn quantities(&self, i: usize, solver: &CoupledSolver) -> Quantities {
         let probe = &self.sensors[i];
+        if let Some((vehicle_id, dofs)) = &probe.mount {
+            return vehicle_quantities(*vehicle_id, dofs, solver);
+        }
         let s = &solver.bridge.state;
         let (settled_m, settled_rad, settled_n_m) = probe.settled;
         let moment_n_m = probe.moment.dot(&s.u) + settled_n_m;
@@ -238,6 +247,30 @@ impl Probes {
                 false => 0.0,
             },
         }
+    }
+}
+
+/// A vehicle sensor's quantities now, downward positive as the bridge's: the motion of
+/// its mount from static equilibrium; zero while the vehicle is not on the modelled road
+/// (before it appears, after it has left).
+fn vehicle_quantities(
+    vehicle_id: u32,
+    dofs: &[(usize, f64)],
+    solver: &CoupledSolver,
+) -> Quantities {
+    let Some(v) = solver
+        .vehicles
+        .iter()
+        .find(|v| v.id == vehicle_id && v.is_active())
+    else {
+        return Quantities::default();
+    };
+    let read = |x: &nalgebra::DVector<f64>| -dofs.iter().map(|&(d, c)| c * x[d]).sum::<f64>();
+    Quantities {
+        displacement_m: read(&v.state.u),
+        velocity_m_s: read(&v.state.v),
+        acceleration_m_s2: read(&v.state.a),
+        ..Quantities::default()
     }
 }
 

@@ -112,6 +112,12 @@ impl Tracker {
         out
     }
 
+    /// The lane of the solver's vehicle `index` (the tracks follow the solver's vehicles
+    /// one to one).
+    pub fn lane_of(&self, index: usize) -> u32 {
+        self.tracks[index].lane
+    }
+
     /// Detects crossings since the previous step and queues the records they produce.
     pub fn observe(&mut self, solver: &CoupledSolver, step: u64, queue: &mut VecDeque<Record>) {
         let t_ns = step * self.dt_ns;

@@ -49,5 +49,6 @@ mod split_output;
 mod sweep;
 mod traffic;
 mod traffic_run;
+mod vehicle_instruments;
 mod verification;
 mod wim_models;

@@ -74,6 +74,11 @@ const PINNED: &[(&str, f64, &str)] = &[
         "5b0ba0ee58e0e793062b9757f28d6d55b55d9129a6d20e7631f6f329483403f3",
     ),
     (
+        "frequency_tracking",
+        20.0,
+        "595f6e3520493817dfb71372a06a2bbbca887baf3bd14df717d8fea4e630f718",
+    ),
+    (
         "day_of_traffic",
         20.0,
         "4642ea8e9342f2705edaa39a3562963197770ce9a061e58fcac417c3a3eb6a50",

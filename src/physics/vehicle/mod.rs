@@ -4,6 +4,7 @@ mod articulated;
 mod classes;
 mod dynamics;
 mod models;
+mod mounts;
 mod pitch_plane_spec;
 mod spec;
 mod truck_spec;
@@ -14,6 +15,7 @@ pub use dynamics::{Axle, VehicleDynamics, GRAVITY_M_S2};
 pub use models::{
     quarter_car, rigid_body_on_axles, sprung_mass, AxleParams, BodyParams, RigidTruckParams,
 };
+pub use mounts::{MountError, MountPoint};
 pub use spec::{HalfCarSpec, VehicleModelSpec, HALF_CAR_PRESETS};
 pub use truck_spec::{ArticulatedSpec, RigidTruckSpec, ARTICULATED_PRESETS, RIGID_TRUCK_PRESETS};
 

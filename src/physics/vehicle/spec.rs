@@ -77,7 +77,8 @@ crate::base::tagged::kind_tagged!(VehicleModelSpec);
 pitch_plane_spec! {
     /// Half-car parameters; arrays are (front, rear).
     pub struct HalfCarSpec, axle arrays of [f64; 2] {
-        /// `two_axle_truck` or `vbi2d_e01` (docs/physics.md section 6).
+        /// `two_axle_truck`, `vbi2d_e01` (docs/physics.md section 6) or `drive_by_van` (a
+        /// light instrumented test vehicle for drive-by monitoring).
         #[schemars(transform = bounds::named_choices(&HALF_CAR_PRESETS, |name| {
             HalfCarSpec::preset(name).map(|p| HalfCarSpec { preset: None, ..p })
         }))]
@@ -99,7 +100,7 @@ pitch_plane_spec! {
 }
 
 /// The names `preset` accepts.
-pub const HALF_CAR_PRESETS: [&str; 2] = ["two_axle_truck", "vbi2d_e01"];
+pub const HALF_CAR_PRESETS: [&str; 3] = ["two_axle_truck", "vbi2d_e01", "drive_by_van"];
 
 impl HalfCarSpec {
     /// The preset's full parameter set.
@@ -139,6 +140,29 @@ impl HalfCarSpec {
                     [6.0e6, 6.0e6],
                     [1.0e4, 1.0e4],
                     [1.75e6, 1.75e6],
+                    [0.0, 0.0],
+                ]),
+            ),
+            // A light instrumented test vehicle (a loaded van) for drive-by monitoring: its
+            // body bounce (1.2 Hz) and wheel hop (10.8 Hz) sit where Gillespie (1992,
+            // Fundamentals of Vehicle Dynamics, ch. 6) puts a light vehicle's ride and hop
+            // frequencies (1-1.5 Hz, 10-12 Hz), so both stay clear of a short or medium
+            // span's f1 (2-8 Hz). Suspension damping ~0.3 of critical. Chosen values, not
+            // one published vehicle; tests/suite/driveby.rs checks the frequencies.
+            "drive_by_van" => Some(
+                HalfCarSpec {
+                    preset: Some(name.into()),
+                    body_mass_kg: Some(1_800.0),
+                    pitch_inertia_kg_m2: Some(2_400.0),
+                    axle_spacing_m: Some(3.0),
+                    cg_behind_front_m: None,
+                    ..HalfCarSpec::default()
+                }
+                .with_axle_arrays([
+                    [100.0, 100.0],
+                    [6.0e4, 6.0e4],
+                    [4.0e3, 4.0e3],
+                    [4.0e5, 4.0e5],
                     [0.0, 0.0],
                 ]),
             ),

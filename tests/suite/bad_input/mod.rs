@@ -25,7 +25,7 @@ use std::path::Path;
 
 use cli::{cli_cases, output_cases};
 use harness::{edited, run_all, Case};
-use monitoring::{condition_cases, monitoring_cases, traffic_cases};
+use monitoring::{condition_cases, instrument_cases, monitoring_cases, traffic_cases};
 use physics::physics_cases;
 use syntax::syntax_cases;
 
@@ -42,6 +42,11 @@ fn condition() {
 #[test]
 fn monitoring() {
     run_all("monitoring", &monitoring_cases());
+}
+
+#[test]
+fn instruments() {
+    run_all("instruments", &instrument_cases());
 }
 
 #[test]

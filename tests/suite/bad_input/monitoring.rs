@@ -1,9 +1,148 @@
 //! Monitoring (sensor chains, DAQ nodes, faults, ambient, WIM models), traffic, and the
 //! bridge's condition (temperature, damage).
 
-use super::harness::{Case, Edit, Edit::Set};
+use super::harness::{
+    Case, Edit,
+    Edit::{Remove, Set},
+};
 
 /// Issue 5: sensor presets and chains, DAQ nodes, faults, ambient excitation, WIM models.
+/// Instruments riding on vehicles and on the road (drive-by, B-WIM).
+pub(super) fn instrument_cases() -> Vec<Case> {
+    // sensors.0 is A1, an accelerometer at x = 3.75 m; the one vehicle is id 1, a half car.
+    const ON_AXLE: Edit = Set("sensors.0.vehicle", "{ id = 1, axle = 1 }");
+    vec![
+        Case::edit(
+            "vehicle sensor on a vehicle that does not exist",
+            &[
+                Remove("sensors.0.position_m"),
+                Set("sensors.0.vehicle", "{ id = 9, axle = 1 }"),
+            ],
+            &[
+                "sensors.0[A1].vehicle.id = 9",
+                "is not the id of a [[vehicles]] entry",
+                "[1]",
+            ],
+        ),
+        Case::edit(
+            "vehicle sensor on an axle the model lacks",
+            &[
+                Remove("sensors.0.position_m"),
+                Set("sensors.0.vehicle", "{ id = 1, axle = 3 }"),
+            ],
+            &[
+                "sensors.0[A1].vehicle.axle = 3",
+                "is not an axle of vehicle 1",
+                "has 2",
+            ],
+        ),
+        Case::edit(
+            "vehicle sensor on axle 0",
+            &[
+                Remove("sensors.0.position_m"),
+                Set("sensors.0.vehicle", "{ id = 1, axle = 0 }"),
+            ],
+            &["sensors.0[A1].vehicle.axle = 0", "counts from 1"],
+        ),
+        Case::edit(
+            "vehicle sensor on a moving force",
+            &[
+                Set(
+                    "vehicles.0.model",
+                    "{ kind = \"moving_force\", axle_loads_n = [1e5] }",
+                ),
+                Remove("sensors.0.position_m"),
+                ON_AXLE,
+            ],
+            &["sensors.0[A1].vehicle.axle = 1", "is a moving force"],
+        ),
+        Case::edit(
+            "vehicle sensor with both an axle and a body offset",
+            &[
+                Remove("sensors.0.position_m"),
+                Set(
+                    "sensors.0.vehicle",
+                    "{ id = 1, axle = 1, body_offset_m = 1.0 }",
+                ),
+            ],
+            &["sensors.0[A1].vehicle", "needs exactly one of axle"],
+        ),
+        Case::edit(
+            "vehicle sensor with a position on the bridge too",
+            &[ON_AXLE],
+            &["sensors.0[A1].position_m = 3.75", "is for a bridge sensor"],
+        ),
+        Case::edit(
+            "strain gauge on a vehicle",
+            &[
+                Remove("sensors.7.position_m"),
+                Set("sensors.7.vehicle", "{ id = 1, axle = 1 }"),
+            ],
+            &["sensors.7[S1].kind = \"strain\"", "only accelerometers"],
+        ),
+        Case::edit(
+            "bridge sensor without a position",
+            &[Remove("sensors.0.position_m")],
+            &["sensors.0[A1].position_m = (missing)", "is required"],
+        ),
+        Case::edit(
+            "GNSS rate above the solver rate",
+            &[Set(
+                "gnss",
+                "[{ id = \"G\", vehicle = 1, rate_hz = 2000.0 }]",
+            )],
+            &[
+                "gnss.0[G].rate_hz = 2000",
+                "above the solver rate 1/dt = 1000 Hz",
+            ],
+        ),
+        Case::edit(
+            "GNSS on a vehicle that does not exist",
+            &[Set("gnss", "[{ id = \"G\", vehicle = 4 }]")],
+            &[
+                "gnss.0[G].vehicle = 4",
+                "is not the id of a [[vehicles]] entry",
+            ],
+        ),
+        Case::edit(
+            "GNSS with a negative noise",
+            &[Set(
+                "gnss",
+                "[{ id = \"G\", vehicle = 1, position_noise_m = -1.0 }]",
+            )],
+            &["gnss.0[G].position_noise_m = -1"],
+        ),
+        Case::edit(
+            "axle detector off the road",
+            &[Set(
+                "axle_detectors",
+                "[{ id = \"T1\", position_m = -150.0 }]",
+            )],
+            &[
+                "axle_detectors.0[T1].position_m = -150",
+                "is off the road",
+                "[-100, 60] m",
+            ],
+        ),
+        Case::edit(
+            "axle detector that misses every axle",
+            &[Set(
+                "axle_detectors",
+                "[{ id = \"T1\", position_m = -5.0, miss_probability = 1.0 }]",
+            )],
+            &["axle_detectors.0[T1].miss_probability = 1", "[0, 1)"],
+        ),
+        Case::edit(
+            "two axle detectors with one id",
+            &[Set(
+                "axle_detectors",
+                "[{ id = \"T1\", position_m = -5.0 }, { id = \"T1\", position_m = -3.0 }]",
+            )],
+            &["axle_detectors.1[T1].id = \"T1\"", "is used twice"],
+        ),
+    ]
+}
+
 pub(super) fn monitoring_cases() -> Vec<Case> {
     const LOWNOISE: Edit = Set("sensors.0.preset", "\"mems_lownoise\"");
     const NODE: Edit = Set(

@@ -173,7 +173,8 @@ fn scenario_strategy() -> impl Strategy<Value = Scenario> {
                         SensorKind::Strain,
                         SensorKind::Displacement,
                     ][d.kind],
-                    position_m: d.position_fraction * span,
+                    position_m: Some(d.position_fraction * span),
+                    vehicle: None,
                     rate_hz: d.rate_fraction * solver_rate_hz,
                     noise_density: d.noise,
                     gauge_depth_m: None,
@@ -231,6 +232,22 @@ fn record_floats(record: &Record) -> Vec<(&'static str, f64)> {
                     .iter()
                     .map(|(_, v)| ("vehicle.parameters", *v)),
             );
+        }
+        Record::Gnss { fix, .. } => {
+            out.push(("gnss.position_m", fix.position_m));
+            out.push(("gnss.speed_m_s", fix.speed_m_s));
+        }
+        Record::AxleHit { hit, .. } => out.push(("axle_hit.speed_m_s", hit.speed_m_s)),
+        Record::VehicleState { state, .. } => {
+            let dofs = state.displacement.iter().chain(&state.velocity);
+            out.extend(
+                dofs.chain(&state.acceleration)
+                    .map(|&v| ("vehicle_state.dof", v)),
+            );
+            for c in &state.contacts {
+                out.push(("vehicle_state.contact_deflection_m", c.bridge_deflection_m));
+                out.push(("vehicle_state.contact_force_n", c.force_n));
+            }
         }
         Record::Wim { record, .. } => {
             let m = &record.measurement;
