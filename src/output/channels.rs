@@ -242,12 +242,14 @@ fn instrument_channels<W: Write + Seek>(
     let mut states = Vec::new();
     for v in &manifest.instrumented_vehicles {
         let names = v.dof_names.join(",");
+        let axles = v.axles.to_string();
         let ch = sink.add_channel::<VehicleState>(
             &Topics::vehicle_state(v.vehicle_id),
             metadata([
                 ("sample_rate_hz", rate.as_str()),
                 ("model", v.model.as_str()),
                 ("dof_names", names.as_str()),
+                ("axles", axles.as_str()),
                 (
                     "sign",
                     "vehicle DOFs upward positive; deck deflection and acceleration downward \

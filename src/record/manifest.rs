@@ -211,6 +211,8 @@ pub struct InstrumentedVehicleInfo {
     pub model: String,
     /// Names of its DOFs, the order of the state's DOF arrays.
     pub dof_names: Vec<String>,
+    /// Its axles (contact points per state).
+    pub axles: usize,
 }
 
 /// Rates of the truth streams.

@@ -12,6 +12,8 @@
 //!   and wheelbases follow the mean number of axles per axle-load record, the bridge
 //!   entries and exits on `/events`, the vehicle records, the WIM records and the
 //!   vehicles a scene update draws.
+//! - Instruments on vehicles and the road: GNSS fixes and vehicle states while their
+//!   vehicle is on the road, one axle detection per axle crossing a detector.
 //! - Not forecast: contact loss and regain events and ADC clipping notes (they depend on
 //!   the response), and a vehicle run as moving forces (rare draws).
 
@@ -236,6 +238,18 @@ pub fn forecast(resolved: &Resolved, prepared: &Prepared) -> Result<RecordForeca
             };
             push(record, count);
         }
+    }
+
+    // GNSS fixes, axle detections and instrumented vehicles' states.
+    let axles_past = |x_m: f64| -> f64 {
+        passages
+            .iter()
+            .filter(|p| p.entry_s + (approach_m + x_m + p.wheelbase_m) / p.speed_m_s <= duration_s)
+            .map(|p| p.weight * p.axles as f64)
+            .sum()
+    };
+    for (record, count) in super::instruments::forecast(resolved, duration_s, &axles_past) {
+        push(record, count);
     }
 
     // Other events: the run's first line, clock resyncs, damage onsets.

@@ -254,3 +254,89 @@ impl Instruments {
         }
     }
 }
+
+/// The instruments' records a run will emit, forecast (`sim::forecast`): each with its
+/// expected count. `axles_past(x_m)` is the number of axles expected to cross road
+/// position `x_m` by the end of the run (all lanes).
+pub(super) fn forecast(
+    resolved: &Resolved,
+    duration_s: f64,
+    axles_past: &dyn Fn(f64) -> f64,
+) -> Vec<(Record, f64)> {
+    let s = &resolved.scenario;
+    let on_road_s = |id: u32| -> f64 {
+        resolved
+            .vehicles
+            .iter()
+            .find(|v| v.id == id)
+            .map_or(0.0, |v| {
+                let start_s = v.entry_step as f64 * resolved.dt_s;
+                let road_m = s.road.approach_m + s.bridge.length_m() + s.road.exit_m;
+                let end_s = start_s + (road_m + v.dynamics.wheelbase_m()) / v.speed_m_s;
+                (end_s.min(duration_s) - start_s).max(0.0)
+            })
+    };
+    let mut out = Vec::new();
+    for (receiver, g) in s.gnss.iter().enumerate() {
+        let fix = GnssFix {
+            vehicle_id: g.vehicle,
+            position_m: 12.345,
+            speed_m_s: 15.25,
+            true_position_m: 12.345,
+            true_speed_m_s: 15.25,
+        };
+        let record = Record::Gnss {
+            t_ns: 0,
+            receiver,
+            fix,
+        };
+        out.push((record, on_road_s(g.vehicle) * g.rate_hz));
+    }
+    for (detector, d) in s.axle_detectors.iter().enumerate() {
+        let hit = AxleHit {
+            vehicle_id: 12,
+            axle_index: 1,
+            lane: 1,
+            true_ns: 1_234_567_890,
+            stamp_ns: Some(1_234_567_999),
+            speed_m_s: 15.25,
+        };
+        let record = Record::AxleHit {
+            t_ns: 0,
+            detector,
+            hit,
+        };
+        out.push((record, axles_past(d.position_m)));
+    }
+    let state_rate_hz = 1.0 / (resolved.axle_stride as f64 * resolved.dt_s);
+    for &id in &resolved.instrumented_vehicles {
+        let Some(v) = resolved.vehicles.iter().find(|v| v.id == id) else {
+            continue;
+        };
+        let n = v.dynamics.n_dof();
+        let typical = |scale: f64| (0..n).map(|i| scale * (i as f64 + 1.25)).collect();
+        let contact = ContactPoint {
+            position_m: 12.345,
+            road_elevation_m: 1.25e-3,
+            bridge_deflection_m: 1.25e-3,
+            bridge_acceleration_m_s2: 0.125,
+            force_n: 1.25e4,
+            on_bridge: true,
+        };
+        let state = VehicleStateRecord {
+            vehicle_id: id,
+            position_m: 12.345,
+            speed_m_s: v.speed_m_s,
+            displacement: typical(1e-3),
+            velocity: typical(1e-2),
+            acceleration: typical(1e-1),
+            contacts: vec![contact; v.dynamics.axles.len()],
+        };
+        let record = Record::VehicleState {
+            t_ns: 0,
+            state: Box::new(state),
+        };
+        out.push((record, on_road_s(id) * state_rate_hz));
+    }
+    out
+}

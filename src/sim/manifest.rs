@@ -93,6 +93,7 @@ pub fn manifest(resolved: &Resolved, prepared: &Prepared) -> Result<RunManifest>
                 vehicle_id: v.id,
                 model: v.dynamics.name.clone(),
                 dof_names: v.dynamics.dof_names.clone(),
+                axles: v.dynamics.axles.len(),
             })
             .collect(),
         rates: StreamRates {

@@ -10,6 +10,7 @@
 
 mod contents;
 mod panels;
+mod vehicles;
 
 use std::path::Path;
 
@@ -137,6 +138,11 @@ pub fn layout(contents: &RunContents, options: &LayoutOptions) -> Result<Foxglov
     let mut middle = Vec::new();
     for plot in axle_plots(contents, options, &mut notes)? {
         let id = format!("Plot!axles_{}", middle.len());
+        config.insert(id.clone(), plot.config());
+        middle.push(json!(id));
+    }
+    for plot in vehicles::vehicle_plots(contents, &mut notes) {
+        let id = format!("Plot!vehicle_{}", middle.len());
         config.insert(id.clone(), plot.config());
         middle.push(json!(id));
     }
