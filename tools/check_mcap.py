@@ -17,8 +17,9 @@ Checks, per file:
   ``split`` with ``part`` > 0, it goes on from the previous part: consecutive from where
   each channel starts);
 - metadata records ``bridgetwin``, ``scenario`` and ``bridge_model`` exist (switchable);
-- at least one ``/sensors/`` channel has messages (switchable): a run that measured
-  nothing is not a valid monitoring record.
+- at least one ``/sensors/`` or ``/vehicles/`` channel (a bridge or a vehicle-mounted
+  instrument) has messages (switchable): a run that measured nothing is not a valid
+  monitoring record.
 
 Prints one ``OK`` line per valid file; otherwise ``FAIL`` lines on stderr, exit status 1.
 """
@@ -40,6 +41,8 @@ from mcap_protobuf.decoder import DecoderFactory
 
 REQUIRED_METADATA = ("bridgetwin", "scenario", "bridge_model")
 MAX_PROBLEMS = 20  # per file; the first ones say enough
+# Topics of what an installation measures: on the bridge and road, or riding on a vehicle.
+MEASURED_PREFIXES = ("/sensors/", "/vehicles/")
 
 
 class Problems:
@@ -199,9 +202,11 @@ def check_file(path: str, require_metadata: bool, require_sensors: bool = True) 
             problems.check(name in seen["metadata"], f"metadata record {name!r} missing")
     if require_sensors:
         measured = [
-            c.topic for i, c in summary.channels.items() if c.topic.startswith("/sensors/") and seen["per_channel"].get(i, 0) > 0
+            c.topic
+            for i, c in summary.channels.items()
+            if c.topic.startswith(MEASURED_PREFIXES) and seen["per_channel"].get(i, 0) > 0
         ]
-        problems.check(bool(measured), "no /sensors/ channel has a message: nothing was measured")
+        problems.check(bool(measured), "no /sensors/ or /vehicles/ channel has a message: nothing was measured")
 
     start = datetime.fromtimestamp(stats.message_start_time / 1e9, tz=timezone.utc)
     duration_s = (stats.message_end_time - stats.message_start_time) * 1e-9
@@ -226,7 +231,7 @@ def main() -> int:
         "--require-sensors",
         action=argparse.BooleanOptionalAction,
         default=True,
-        help="require messages on at least one /sensors/ channel (default: on)",
+        help="require messages on at least one /sensors/ or /vehicles/ channel (default: on)",
     )
     args = parser.parse_args()
     failed = 0

@@ -74,6 +74,11 @@ const PINNED: &[(&str, f64, &str)] = &[
         "5b0ba0ee58e0e793062b9757f28d6d55b55d9129a6d20e7631f6f329483403f3",
     ),
     (
+        "drive_by",
+        20.0,
+        "e22c831e885b8f0752b83397371ca8a14eec23824a66c1a411ee954363e1b5b0",
+    ),
+    (
         "frequency_tracking",
         20.0,
         "595f6e3520493817dfb71372a06a2bbbca887baf3bd14df717d8fea4e630f718",

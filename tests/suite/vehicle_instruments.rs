@@ -252,3 +252,37 @@ miss_probability = 0.25
         }
     }
 }
+
+#[test]
+fn the_drive_by_van_rides_and_hops_where_its_preset_says() {
+    use bridgetwin::physics::vehicle::VehicleModelSpec;
+    let spec: VehicleModelSpec = toml::from_str(
+        r#"kind = "half_car"
+preset = "drive_by_van""#,
+    )
+    .unwrap();
+    let van = spec.build("van").unwrap();
+    // Damped natural frequencies |Im lambda| / 2 pi of the free van on a rigid road,
+    // against the uncoupled estimates: body on the suspension and tyres in series per
+    // axle, sqrt(2 k_eq / m_body) / 2 pi = 1.21 Hz (bounce); an axle between its spring
+    // and its tyre, sqrt((k_s + k_t) / m_axle) / 2 pi = 10.8 Hz (hop). Coupling and
+    // damping move them by a few percent: the bands say where a drive-by method must not
+    // look for the bridge.
+    let mut hz: Vec<f64> = van
+        .rigid_road_eigenvalues()
+        .unwrap()
+        .iter()
+        .filter(|l| l.im > 0.0)
+        .map(|l| l.norm() / (2.0 * std::f64::consts::PI))
+        .collect();
+    hz.sort_by(f64::total_cmp);
+    assert_eq!(hz.len(), 4, "{hz:?}");
+    assert!((1.0..1.5).contains(&hz[0]), "bounce {hz:?}");
+    assert!((1.2..2.0).contains(&hz[1]), "pitch {hz:?}");
+    assert!(
+        hz[2..].iter().all(|f| (10.0..11.5).contains(f)),
+        "hop {hz:?}"
+    );
+    let g = bridgetwin::physics::vehicle::GRAVITY_M_S2;
+    assert!((van.gross_weight_n() - 2000.0 * g).abs() < 1e-6);
+}

@@ -148,7 +148,7 @@ impl HalfCarSpec {
             // Fundamentals of Vehicle Dynamics, ch. 6) puts a light vehicle's ride and hop
             // frequencies (1-1.5 Hz, 10-12 Hz), so both stay clear of a short or medium
             // span's f1 (2-8 Hz). Suspension damping ~0.3 of critical. Chosen values, not
-            // one published vehicle; tests/suite/driveby.rs checks the frequencies.
+            // one published vehicle; tests/suite/vehicle_instruments.rs checks the frequencies.
             "drive_by_van" => Some(
                 HalfCarSpec {
                     preset: Some(name.into()),
