@@ -74,6 +74,16 @@ const PINNED: &[(&str, f64, &str)] = &[
         "5b0ba0ee58e0e793062b9757f28d6d55b55d9129a6d20e7631f6f329483403f3",
     ),
     (
+        "bwim_calibration",
+        20.0,
+        "cf5bbca0acc2fe490db36b1bf974b8f3a3de37e5833195a7d9cb08ce60ed6461",
+    ),
+    (
+        "bwim_hour_of_traffic",
+        20.0,
+        "d71581a5099d6d37571c47f9e3f6b05c79dd2265ff572c80c5396e48bf87fd65",
+    ),
+    (
         "drive_by",
         20.0,
         "e22c831e885b8f0752b83397371ca8a14eec23824a66c1a411ee954363e1b5b0",
