@@ -76,12 +76,12 @@ const PINNED: &[(&str, f64, &str)] = &[
     (
         "bwim_calibration",
         20.0,
-        "cf5bbca0acc2fe490db36b1bf974b8f3a3de37e5833195a7d9cb08ce60ed6461",
+        "c4607c4a47e28c4ab3dc8a5a7aed6cb90969a59883072bf7ba8fb98de8393759",
     ),
     (
         "bwim_hour_of_traffic",
         20.0,
-        "d71581a5099d6d37571c47f9e3f6b05c79dd2265ff572c80c5396e48bf87fd65",
+        "603f09e815bae15bc4a78f7d9770f3fc34ea7e20bd5c965d6d1d1a1ff79d802e",
     ),
     (
         "drive_by",
