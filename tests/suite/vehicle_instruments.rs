@@ -286,3 +286,56 @@ preset = "drive_by_van""#,
     let g = bridgetwin::physics::vehicle::GRAVITY_M_S2;
     assert!((van.gross_weight_n() - 2000.0 * g).abs() < 1e-6);
 }
+
+#[test]
+fn an_instrumented_van_amid_generated_traffic_is_the_only_one_recorded() {
+    // The van (id 1) enters at 5 s among two lanes of generated traffic: the traffic's ids
+    // start after the listed ones, so only the van has a state and fixes, while the tape
+    // across the road times every vehicle's axles.
+    let extra = r#"duration_s = 40.0
+[traffic]
+lanes = [{ direction = 1, flow_per_hour = 900.0 }, { direction = -1, flow_per_hour = 900.0 }]
+[[gnss]]
+id = "G"
+vehicle = 1
+[[axle_detectors]]
+id = "T"
+position_m = 15.0
+"#;
+    let toml = drive_by(10.0, r#"{ kind = "iso8608", class = "A" }"#, "")
+        .replace("seed = 5\n", &format!("seed = 5\n{extra}"))
+        .replace("entry_time_s = 1.0", "entry_time_s = 5.0");
+    // Tables after [traffic] must not fall into it: move the sections to the end.
+    let (head, tables) = toml.split_once("[traffic]").unwrap();
+    let (traffic, rest) = tables.split_once("[[gnss]]").unwrap();
+    let toml = format!(
+        "{head}{}\n[traffic]{traffic}",
+        format_args!("[[gnss]]{rest}")
+    );
+    let records = records_of(&toml);
+    let mut state_ids = std::collections::BTreeSet::new();
+    let mut fix_ids = std::collections::BTreeSet::new();
+    let mut hit_ids = std::collections::BTreeSet::new();
+    for r in &records {
+        match r {
+            Record::VehicleState { state, .. } => {
+                state_ids.insert(state.vehicle_id);
+            }
+            Record::Gnss { fix, .. } => {
+                fix_ids.insert(fix.vehicle_id);
+            }
+            Record::AxleHit { hit, .. } => {
+                hit_ids.insert(hit.vehicle_id);
+            }
+            _ => {}
+        }
+    }
+    assert_eq!(state_ids, [1].into());
+    assert_eq!(fix_ids, [1].into());
+    // The van, the truck and generated vehicles (ids from 3) cross the tape.
+    assert!(hit_ids.contains(&1) && hit_ids.contains(&2), "{hit_ids:?}");
+    assert!(
+        hit_ids.iter().any(|&id| id > 2),
+        "no traffic on the tape: {hit_ids:?}"
+    );
+}
