@@ -192,6 +192,8 @@ def _add_message(rows: list[dict], nested: dict[str, list[dict]], msg: Any, log_
         return
     row: dict[str, Any] = {"log_time_ns": log_time_ns}
     for field in msg.DESCRIPTOR.fields:
+        if _is_unset_timestamp(msg, field):
+            continue  # an unset time (a missed detection's) reads as NaN, not as 1970
         value = getattr(msg, field.name)
         if _is_map(field):
             row.update({f"{field.name}.{k}": v for k, v in value.items()})
@@ -209,6 +211,8 @@ def _add_message(rows: list[dict], nested: dict[str, list[dict]], msg: Any, log_
 
 def _add_singular_fields(row: dict, msg: Any, prefix: str) -> None:
     for field in msg.DESCRIPTOR.fields:
+        if _is_unset_timestamp(msg, field):
+            continue  # an unset time (a missed detection's) reads as NaN, not as 1970
         value = getattr(msg, field.name)
         if field.is_repeated:
             row[prefix + field.name] = np.asarray(list(value)) if not _is_map(field) else dict(value)
@@ -241,6 +245,15 @@ def _add_block(rows: list[dict], msg: Any, log_time_ns: int) -> None:
         row = {"log_time_ns": log_time_ns + i * period_ns, "timestamp_ns": stamp_ns + i * period_ns}
         row.update({k: v[i] for k, v in columns.items() if i < len(v)})
         rows.append(row)
+
+
+def _is_unset_timestamp(msg: Any, field: FieldDescriptor) -> bool:
+    return (
+        not field.is_repeated
+        and field.cpp_type == FieldDescriptor.CPPTYPE_MESSAGE
+        and field.message_type.full_name == "google.protobuf.Timestamp"
+        and not msg.HasField(field.name)
+    )
 
 
 def _is_map(field: FieldDescriptor) -> bool:

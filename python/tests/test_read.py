@@ -67,9 +67,9 @@ def compare_topic(topic: str, frame: pd.DataFrame, columns: dict[str, np.ndarray
         if name.endswith("time_s"):
             continue  # compared as times below
         if name == "node_timestamp_ns":
-            # truth.proto: node_timestamp is "unset when it equals timestamp". The raw
-            # protobuf default the reference reads is 0; we fill the stamp back in.
-            theirs = np.where(theirs == 0, columns["timestamp_ns"], theirs)
+            # truth.proto: node_timestamp is "unset when it equals timestamp": the raw
+            # protobuf default the reference reads is unset (NaN); we fill the stamp back in.
+            theirs = np.where(np.isnan(theirs) | (theirs == 0), columns["timestamp_ns"], theirs)
         if field in nested and name == f"{field}.log_time_ns":
             if field in element_rows:
                 assert_same_column(topic, name, frame["log_time_ns"], theirs)
