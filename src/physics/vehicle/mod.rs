@@ -6,6 +6,7 @@ mod dynamics;
 mod models;
 mod mounts;
 mod pitch_plane_spec;
+mod railway;
 mod spec;
 mod truck_spec;
 
@@ -16,6 +17,7 @@ pub use models::{
     quarter_car, rigid_body_on_axles, sprung_mass, AxleParams, BodyParams, RigidTruckParams,
 };
 pub use mounts::{MountError, MountPoint};
+pub use railway::{RailwayCarParams, Suspension};
 pub use spec::{HalfCarSpec, VehicleModelSpec, HALF_CAR_PRESETS};
 pub use truck_spec::{ArticulatedSpec, RigidTruckSpec, ARTICULATED_PRESETS, RIGID_TRUCK_PRESETS};
 
