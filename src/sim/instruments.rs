@@ -1,19 +1,18 @@
-//! What the time loop records of the vehicles beyond their axle loads: the fixes of GNSS
-//! receivers riding on them, the axles road detectors time, and the state of each
-//! instrumented vehicle (its DOFs and where its wheels touch the road) that drive-by
-//! monitoring is scored against. Built once; reading allocates only the records.
+//! What the time loop records of the instrumented vehicles beyond their axle loads: the
+//! fixes of GNSS receivers riding on them, and the state of each (its DOFs and where its
+//! wheels touch the road) that drive-by monitoring is scored against; and the forecast of
+//! these records and of the road axle detectors' (which the tracker times, with the other
+//! crossings). Built once; reading allocates only the records.
 
 use std::collections::VecDeque;
 
 use crate::base::random::child_rng;
-use crate::measurement::vehicle::{DetectorTiming, GnssError};
+use crate::measurement::vehicle::GnssError;
 use crate::physics::bridge::{PointQuantity, SparseVec};
 use crate::physics::road::RoadProfile;
 use crate::physics::solver::{CoupledSolver, CoupledVehicle};
 use crate::record::{AxleHit, ContactPoint, GnssFix, Record, VehicleStateRecord};
 use crate::scenario::Resolved;
-
-use super::tracking::Tracker;
 
 /// One GNSS receiver and its next fix.
 struct Receiver {
@@ -25,17 +24,9 @@ struct Receiver {
     error: GnssError,
 }
 
-/// One road axle detector.
-struct Detector {
-    position_m: f64,
-    lane: Option<u32>,
-    timing: DetectorTiming,
-}
-
 /// The instruments of a run that see the vehicles.
 pub(super) struct Instruments {
     receivers: Vec<Receiver>,
-    detectors: Vec<Detector>,
     /// Ids of the vehicles whose state is recorded, ascending.
     instrumented: Vec<u32>,
     dt_ns: u64,
@@ -61,22 +52,8 @@ impl Instruments {
                 ),
             })
             .collect();
-        let detectors = s
-            .axle_detectors
-            .iter()
-            .map(|d| Detector {
-                position_m: d.position_m,
-                lane: d.lane,
-                timing: DetectorTiming::new(
-                    d.jitter_s,
-                    d.miss_probability,
-                    child_rng(s.seed, &format!("axle_detector/{}", d.id)),
-                ),
-            })
-            .collect();
         Self {
             receivers,
-            detectors,
             instrumented: resolved.instrumented_vehicles.clone(),
             dt_ns: resolved.dt_ns,
             dt_s: resolved.dt_s,
@@ -86,25 +63,21 @@ impl Instruments {
 
     /// Whether the run has any of these instruments (else the loop skips them).
     pub(super) fn any(&self) -> bool {
-        !(self.receivers.is_empty() && self.detectors.is_empty() && self.instrumented.is_empty())
+        !(self.receivers.is_empty() && self.instrumented.is_empty())
     }
 
-    /// Queues this step's records: the fixes due, the axles that crossed a detector since
-    /// the last step, and (when `state_due`) the instrumented vehicles' states.
+    /// Queues this step's records: the fixes due and (when `state_due`) the instrumented
+    /// vehicles' states.
     pub(super) fn observe(
         &mut self,
         solver: &CoupledSolver,
         road: &RoadProfile,
-        tracker: &Tracker,
         step: u64,
         state_due: bool,
         queue: &mut VecDeque<Record>,
     ) {
         let t_ns = step * self.dt_ns;
         self.fixes(solver, step, t_ns, queue);
-        if !self.detectors.is_empty() && step > 0 {
-            self.crossings(solver, tracker, step, queue);
-        }
         if state_due {
             for i in 0..self.instrumented.len() {
                 let id = self.instrumented[i];
@@ -155,56 +128,6 @@ impl Instruments {
                     true_speed_m_s: v.speed_m_s,
                 },
             });
-        }
-    }
-
-    /// Axles that passed a detector between the last step and this one: the crossing
-    /// instant is interpolated in the step (the vehicles move at constant speed, so it is
-    /// exact), then the detector's timing applied.
-    fn crossings(
-        &mut self,
-        solver: &CoupledSolver,
-        tracker: &Tracker,
-        step: u64,
-        queue: &mut VecDeque<Record>,
-    ) {
-        let t_ns = step * self.dt_ns;
-        for (index, v) in solver.vehicles.iter().enumerate() {
-            if !v.is_active() || step <= v.entry_step {
-                continue;
-            }
-            let lane = tracker.lane_of(index);
-            for (d, detector) in self.detectors.iter_mut().enumerate() {
-                if detector.lane.is_some_and(|l| l != lane) {
-                    continue;
-                }
-                for j in 0..v.dynamics.axles.len() {
-                    let before = v.axle_x_m(j, step - 1, self.dt_s);
-                    let now = v.axle_x_m(j, step, self.dt_s);
-                    let p = detector.position_m;
-                    let crossed = match v.direction > 0.0 {
-                        true => before < p && p <= now,
-                        false => before > p && p >= now,
-                    };
-                    if !crossed {
-                        continue;
-                    }
-                    let share = (p - before) / (now - before);
-                    let true_ns = t_ns - self.dt_ns + (share * self.dt_ns as f64).round() as u64;
-                    queue.push_back(Record::AxleHit {
-                        t_ns,
-                        detector: d,
-                        hit: AxleHit {
-                            vehicle_id: v.id,
-                            axle_index: j as u32,
-                            lane,
-                            true_ns,
-                            stamp_ns: detector.timing.observe(true_ns),
-                            speed_m_s: v.speed_m_s,
-                        },
-                    });
-                }
-            }
         }
     }
 

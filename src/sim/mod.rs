@@ -313,14 +313,7 @@ pub fn run_controlled(
         }
         if instruments.any() {
             let state_due = step % resolved.axle_stride == 0;
-            instruments.observe(
-                &solver,
-                &prepared.road,
-                &tracker,
-                step,
-                state_due,
-                &mut merger.truth,
-            );
+            instruments.observe(&solver, &prepared.road, step, state_due, &mut merger.truth);
         }
         tracker.observe(&solver, step, &mut merger.truth);
         tracker.drop_departed(&mut solver);

@@ -1,5 +1,5 @@
-//! Follows every vehicle along the road: bridge entry and exit, WIM strips, contact loss,
-//! and the largest tyre force on the bridge (for the DLC).
+//! Follows every vehicle along the road: bridge entry and exit, WIM strips, road axle
+//! detectors, contact loss, and the largest tyre force on the bridge (for the DLC).
 
 use std::collections::VecDeque;
 
@@ -7,9 +7,10 @@ use rand_chacha::ChaCha8Rng;
 
 use crate::base::random::child_rng;
 use crate::error::Result;
+use crate::measurement::vehicle::DetectorTiming;
 use crate::measurement::wim::{WimPassage, WimStation};
 use crate::physics::solver::CoupledSolver;
-use crate::record::{AxleState, EventLevel, Record, VehicleRecord, WimRecordData};
+use crate::record::{AxleHit, AxleState, EventLevel, Record, VehicleRecord, WimRecordData};
 use crate::scenario::Resolved;
 
 /// Another vehicle with an axle this close to a WIM strip when a vehicle's last axle
@@ -42,6 +43,8 @@ pub struct Tracker {
     wim_positions_m: Vec<f64>,
     /// Each station's model and its random stream (`wim/<id>`).
     stations: Vec<(WimStation, ChaCha8Rng)>,
+    /// Road axle detectors: (position m on the road axis, only this lane, timing model).
+    detectors: Vec<(f64, Option<u32>, DetectorTiming)>,
     tracks: Vec<VehicleTrack>,
     /// DLC rows of vehicles already dropped, and how many vehicles they cover.
     departed_dlc: Vec<(u32, u32, f64, f64)>,
@@ -68,8 +71,19 @@ impl Tracker {
             .iter()
             .map(|v| new_track(v.lane, v.speed_m_s, v.dynamics.axles.len(), stations))
             .collect();
+        let detectors = resolved
+            .scenario
+            .axle_detectors
+            .iter()
+            .map(|d| {
+                let rng = child_rng(seed, &format!("axle_detector/{}", d.id));
+                let timing = DetectorTiming::new(d.jitter_s, d.miss_probability, rng);
+                (d.position_m, d.lane, timing)
+            })
+            .collect();
         Ok(Tracker {
             stations: models,
+            detectors,
             span_m,
             dt_ns: resolved.dt_ns,
             dt_s: resolved.dt_s,
@@ -110,12 +124,6 @@ impl Tracker {
             }
         }
         out
-    }
-
-    /// The lane of the solver's vehicle `index` (the tracks follow the solver's vehicles
-    /// one to one).
-    pub fn lane_of(&self, index: usize) -> u32 {
-        self.tracks[index].lane
     }
 
     /// Detects crossings since the previous step and queues the records they produce.
@@ -180,6 +188,34 @@ impl Tracker {
                             station: s,
                             measurement: station.measure(&passage, rng),
                         },
+                    });
+                }
+            }
+            // Axle detectors sit where they are on the road (unlike the strips, which
+            // cover both directions mirrored): the crossing instant is interpolated in
+            // the step, exact at constant speed.
+            for (d, (p, lane, timing)) in self.detectors.iter_mut().enumerate() {
+                if lane.is_some_and(|l| l != track.lane) {
+                    continue;
+                }
+                for (j, (&now, &before)) in x.iter().zip(&track.prev_x_m).enumerate() {
+                    if !crossed(j, *p) {
+                        continue;
+                    }
+                    let share = (*p - before) / (now - before);
+                    let true_ns = t_ns - self.dt_ns + (share * self.dt_ns as f64).round() as u64;
+                    let hit = AxleHit {
+                        vehicle_id: v.id,
+                        axle_index: j as u32,
+                        lane: track.lane,
+                        true_ns,
+                        stamp_ns: timing.observe(true_ns),
+                        speed_m_s: v.speed_m_s,
+                    };
+                    queue.push_back(Record::AxleHit {
+                        t_ns,
+                        detector: d,
+                        hit,
                     });
                 }
             }

@@ -38,6 +38,7 @@ mod preview;
 mod properties;
 mod provenance;
 mod python_tools;
+mod railway;
 mod road_profiles;
 mod scenario_schema;
 mod sensor_chain;

@@ -255,6 +255,7 @@ miss_probability = 0.25
 
 #[test]
 fn the_drive_by_van_rides_and_hops_where_its_preset_says() {
+    use bridgetwin::physics::solver::vehicle_natural_frequencies_hz;
     use bridgetwin::physics::vehicle::VehicleModelSpec;
     let spec: VehicleModelSpec = toml::from_str(
         r#"kind = "half_car"
@@ -262,20 +263,13 @@ preset = "drive_by_van""#,
     )
     .unwrap();
     let van = spec.build("van").unwrap();
-    // Damped natural frequencies |Im lambda| / 2 pi of the free van on a rigid road,
+    // Natural frequencies (undamped) of the free van on a rigid road,
     // against the uncoupled estimates: body on the suspension and tyres in series per
     // axle, sqrt(2 k_eq / m_body) / 2 pi = 1.21 Hz (bounce); an axle between its spring
     // and its tyre, sqrt((k_s + k_t) / m_axle) / 2 pi = 10.8 Hz (hop). Coupling and
     // damping move them by a few percent: the bands say where a drive-by method must not
     // look for the bridge.
-    let mut hz: Vec<f64> = van
-        .rigid_road_eigenvalues()
-        .unwrap()
-        .iter()
-        .filter(|l| l.im > 0.0)
-        .map(|l| l.norm() / (2.0 * std::f64::consts::PI))
-        .collect();
-    hz.sort_by(f64::total_cmp);
+    let hz = vehicle_natural_frequencies_hz(&van).unwrap();
     assert_eq!(hz.len(), 4, "{hz:?}");
     assert!((1.0..1.5).contains(&hz[0]), "bounce {hz:?}");
     assert!((1.2..2.0).contains(&hz[1]), "pitch {hz:?}");

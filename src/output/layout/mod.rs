@@ -240,22 +240,8 @@ fn sensor_plot(
             // `/sensors/accel/A1/blocks` of a file with both layouts.
             continue;
         }
-        let preview = format!("/preview/{}/{id}", kind.segment);
-        let preview_truth = format!("/preview/truth/{id}");
-        let truth_topic = format!("/truth/sensors/{id}");
-        let usable = |topic: &str| {
-            contents
-                .channels
-                .get(topic)
-                .is_some_and(|c| is_per_sample(&c.schema) && c.messages > 0)
-        };
-        let (measured, truth) = if usable(&preview) {
-            (preview, usable(&preview_truth).then_some(preview_truth))
-        } else if usable(&channel.topic) {
-            let truth =
-                has_data(contents, &truth_topic, &SensorTruth::full_name()).then_some(truth_topic);
-            (channel.topic.clone(), truth)
-        } else {
+        let Some((measured, truth)) = plotted_streams(contents, kind.segment, id, &channel.topic)
+        else {
             notes.push(format!(
                 "{}: no per-sample stream (block layout without a preview): not plotted; set \
                  [output] preview_rate_hz",
@@ -321,6 +307,35 @@ fn sensor_plot(
         x: XAxis::Time,
         y_range: None,
     })
+}
+
+/// The (measured, truth) topics to plot for sensor `id` measured on `topic`: its preview
+/// where the run writes one (a block-layout run), else its own per-sample stream with its
+/// truth; `None` when neither is a per-sample stream with data.
+fn plotted_streams(
+    contents: &RunContents,
+    segment: &str,
+    id: &str,
+    topic: &str,
+) -> Option<(String, Option<String>)> {
+    let usable = |topic: &str| {
+        contents
+            .channels
+            .get(topic)
+            .is_some_and(|c| is_per_sample(&c.schema) && c.messages > 0)
+    };
+    let preview = format!("/preview/{segment}/{id}");
+    let preview_truth = format!("/preview/truth/{id}");
+    let truth_topic = format!("/truth/sensors/{id}");
+    if usable(&preview) {
+        Some((preview, usable(&preview_truth).then_some(preview_truth)))
+    } else if usable(topic) {
+        let truth =
+            has_data(contents, &truth_topic, &SensorTruth::full_name()).then_some(truth_topic);
+        Some((topic.to_string(), truth))
+    } else {
+        None
+    }
 }
 
 /// `count` indices out of `0..total`, evenly spread and including both ends.

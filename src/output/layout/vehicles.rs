@@ -4,8 +4,8 @@
 
 use super::contents::RunContents;
 use super::panels::{Plot, Series, XAxis};
-use super::{has_data, is_per_sample};
-use crate::output::proto::v1::{SensorTruth, VehicleState};
+use super::plotted_streams;
+use crate::output::proto::v1::VehicleState;
 use prost::Name;
 
 /// Instrumented vehicles given panels at most (the rest are listed in the notes).
@@ -41,30 +41,13 @@ pub(super) fn vehicle_plots(contents: &RunContents, notes: &mut Vec<String>) -> 
 /// sample, with the truth.
 fn acceleration_plot(contents: &RunContents, vid: &str) -> Option<Plot> {
     let prefix = format!("/vehicles/{vid}/accel/");
-    let usable = |topic: &str| {
-        contents
-            .channels
-            .get(topic)
-            .is_some_and(|c| is_per_sample(&c.schema) && c.messages > 0)
-    };
     let field = "acceleration_m_s2";
     let mut series = Vec::new();
     for channel in contents.channels.values() {
         let Some(id) = channel.topic.strip_prefix(&prefix) else {
             continue;
         };
-        let (preview, preview_truth) = (
-            format!("/preview/accel/{id}"),
-            format!("/preview/truth/{id}"),
-        );
-        let truth_topic = format!("/truth/sensors/{id}");
-        let (measured, truth) = if usable(&preview) {
-            (preview, usable(&preview_truth).then_some(preview_truth))
-        } else if usable(&channel.topic) {
-            let truth =
-                has_data(contents, &truth_topic, &SensorTruth::full_name()).then_some(truth_topic);
-            (channel.topic.clone(), truth)
-        } else {
+        let Some((measured, truth)) = plotted_streams(contents, "accel", id, &channel.topic) else {
             continue;
         };
         series.push(Series::new(
