@@ -16,14 +16,14 @@
 
 use std::borrow::Cow;
 
-use nalgebra::{DMatrix, DVector};
+use nalgebra::DVector;
 
+pub use super::coupled_vehicle::CoupledVehicle;
 use super::linear::SmallLu;
-use super::newmark::{Newmark, NewmarkCoefficients, SolveMode, State};
+use super::newmark::{Newmark, NewmarkCoefficients, SolveMode};
 use crate::error::{Error, Result};
 use crate::physics::bridge::{BridgeModel, PointQuantity, SparseVec};
 use crate::physics::road::RoadSurface;
-use crate::physics::vehicle::VehicleDynamics;
 
 /// Tyre-road contact law.
 #[derive(
@@ -44,140 +44,6 @@ pub enum ContactLaw {
     Full,
     /// A tyre in tension lifts off (zero force) until it touches the road again.
     Unilateral,
-}
-
-/// A vehicle on the road, with its own Newmark state.
-pub struct CoupledVehicle {
-    pub id: u32,
-    pub dynamics: VehicleDynamics,
-    pub speed_m_s: f64,
-    /// +1 travelling towards +x (from the left support), -1 towards -x (the opposite
-    /// lane, entering at the right support); axles trail the front axle accordingly.
-    pub direction: f64,
-    /// Front-axle position when the vehicle appears (m).
-    pub start_front_x_m: f64,
-    /// Step index at which it appears.
-    pub entry_step: u64,
-    pub state: State,
-    /// Total tyre force of each axle at the last step (N, compression positive).
-    pub contact_force_n: Vec<f64>,
-    /// Whether each tyre touched the road at the last step.
-    pub in_contact: Vec<bool>,
-    /// Steps with at least one tyre in tension or lifted off.
-    pub contact_loss_steps: u64,
-    active: bool,
-    retired: bool,
-    /// `K_eff,v^-1` applied to the tyre DOFs: W = K_eff,v^-1 E (n_dof x axles).
-    w_tyres: DMatrix<f64>,
-    factor: Option<nalgebra::linalg::Cholesky<f64, nalgebra::Dyn>>,
-    y0: DVector<f64>,
-    scratch: DVector<f64>,
-    history: DVector<f64>,
-}
-
-impl CoupledVehicle {
-    /// A vehicle that appears at `entry_step` with its front axle at `start_front_x_m`.
-    pub fn new(
-        id: u32,
-        dynamics: VehicleDynamics,
-        speed_m_s: f64,
-        start_front_x_m: f64,
-        entry_step: u64,
-    ) -> Self {
-        let n = dynamics.n_dof();
-        let axles = dynamics.axles.len();
-        CoupledVehicle {
-            id,
-            speed_m_s,
-            direction: 1.0,
-            start_front_x_m,
-            entry_step,
-            state: State::zeros(n),
-            contact_force_n: dynamics.axles.iter().map(|a| a.static_load_n).collect(),
-            in_contact: vec![true; axles],
-            contact_loss_steps: 0,
-            active: false,
-            retired: false,
-            w_tyres: DMatrix::zeros(n, axles),
-            factor: None,
-            y0: DVector::zeros(n),
-            scratch: DVector::zeros(n),
-            history: DVector::zeros(n),
-            dynamics,
-        }
-    }
-
-    /// Position of axle `j` at step `step` (m).
-    pub fn axle_x_m(&self, j: usize, step: u64, dt_s: f64) -> f64 {
-        let travelled = self.speed_m_s * (step.saturating_sub(self.entry_step)) as f64 * dt_s;
-        self.start_front_x_m + self.direction * (travelled - self.dynamics.axles[j].offset_m)
-    }
-
-    /// The same vehicle travelling towards -x (`direction < 0`) or +x.
-    pub fn with_direction(mut self, direction: i8) -> Self {
-        self.direction = if direction < 0 { -1.0 } else { 1.0 };
-        self
-    }
-
-    /// Signed velocity along x (m/s): what the road slope under a tyre is multiplied by.
-    pub fn velocity_m_s(&self) -> f64 {
-        self.direction * self.speed_m_s
-    }
-
-    /// Whether every axle is more than `margin_m` beyond the end of a `span_m` bridge it
-    /// crosses in its direction at `step`.
-    pub fn has_left(&self, span_m: f64, margin_m: f64, step: u64, dt_s: f64) -> bool {
-        let last = self.dynamics.axles.len() - 1;
-        let x = self.axle_x_m(last, step, dt_s);
-        match self.direction > 0.0 {
-            true => x > span_m + margin_m,
-            false => x < -margin_m,
-        }
-    }
-
-    /// True once the vehicle has appeared and until it is retired.
-    pub fn is_active(&self) -> bool {
-        self.active
-    }
-
-    /// True once the vehicle has left the modelled road.
-    pub fn is_retired(&self) -> bool {
-        self.retired
-    }
-
-    fn activate(
-        &mut self,
-        road: &dyn RoadSurface,
-        step: u64,
-        coefficients: &NewmarkCoefficients,
-    ) -> Result<()> {
-        let dt = coefficients.dt_s;
-        let under: Vec<f64> = (0..self.dynamics.axles.len())
-            .map(|j| road.elevation_m(self.axle_x_m(j, step, dt)))
-            .collect();
-        self.state.u = self.dynamics.equilibrium_on_road(&under);
-        let n = self.dynamics.n_dof();
-        if n > 0 {
-            let k_eff = &self.dynamics.stiffness
-                + &self.dynamics.mass * coefficients.a0
-                + &self.dynamics.damping * coefficients.a1;
-            let chol = k_eff.cholesky().ok_or_else(|| Error::Factorization {
-                what: format!("effective matrix of vehicle {}", self.id),
-                reason: "not positive definite (check masses)".into(),
-            })?;
-            for (j, axle) in self.dynamics.axles.iter().enumerate() {
-                let mut col = DVector::zeros(n);
-                if let Some(d) = axle.dof {
-                    col[d] = 1.0;
-                    chol.solve_mut(&mut col);
-                }
-                self.w_tyres.set_column(j, &col);
-            }
-            self.factor = Some(chol);
-        }
-        self.active = true;
-        Ok(())
-    }
 }
 
 /// Per-contact data of one step.
@@ -218,6 +84,10 @@ pub struct CoupledSolver<'a> {
     lu: SmallLu,
     forces: Vec<f64>,
     entries: Vec<f64>,
+    /// Contacts sorted by independent group (see `group_contacts`), and work buffers.
+    order: Vec<((usize, usize, usize), usize)>,
+    bridge_blocks: Vec<(usize, usize)>,
+    group_rhs: Vec<f64>,
     /// Columns of `K_eff^-1` (see [`Newmark::inverse_columns`]): an influence vector
     /// `Z = K_eff^-1 h` is then a few axpys over the entries of h instead of a solve.
     inverse_columns: Option<Vec<DVector<f64>>>,
@@ -257,6 +127,9 @@ impl<'a> CoupledSolver<'a> {
             lu: SmallLu::with_capacity(8),
             forces: Vec::new(),
             entries: Vec::new(),
+            order: Vec::new(),
+            bridge_blocks: Vec::new(),
+            group_rhs: Vec::new(),
         })
     }
 
@@ -404,23 +277,8 @@ impl<'a> CoupledSolver<'a> {
     fn prepare_vehicles(&mut self) {
         let c = self.bridge.coefficients;
         for v in &mut self.vehicles {
-            if !v.active || v.dynamics.n_dof() == 0 {
-                continue;
-            }
-            let s = &v.state;
-            v.scratch.copy_from(&s.u);
-            v.scratch.scale_mut(c.a0);
-            v.scratch.axpy(c.a2, &s.v, 1.0);
-            v.scratch.axpy(c.a3, &s.a, 1.0);
-            v.history.gemv(1.0, &v.dynamics.mass, &v.scratch, 0.0);
-            v.scratch.copy_from(&s.u);
-            v.scratch.scale_mut(c.a1);
-            v.scratch.axpy(c.a4, &s.v, 1.0);
-            v.scratch.axpy(c.a5, &s.a, 1.0);
-            v.history.gemv(1.0, &v.dynamics.damping, &v.scratch, 1.0);
-            v.y0.copy_from(&v.history);
-            if let Some(f) = &v.factor {
-                f.solve_mut(&mut v.y0);
+            if v.active && v.dynamics.n_dof() > 0 {
+                v.predict(&c);
             }
         }
         let u0 = &self.rhs;
@@ -465,16 +323,16 @@ impl<'a> CoupledSolver<'a> {
     }
 
     /// Solves the small system for the dynamic tyre forces, with an active set for
-    /// unilateral contact.
+    /// unilateral contact. The system falls apart into independent groups (every tyre
+    /// coupled through the bridge, then each vehicle block off the span on its own), each
+    /// solved alone: a long train off the span costs many 4 x 4 solves, not one large one.
     fn solve_contact_forces(&mut self) {
         let p = self.contacts.len();
         self.forces.resize(p, 0.0);
+        self.group_contacts();
+        let order = std::mem::take(&mut self.order);
         for _iteration in 0..20 {
-            // Matrix B_jk = delta_jk + alpha_j . Z_k + kappa_j G_jk (same vehicle); inactive
-            // rows pin f_j = -F_static (zero total force).
-            let mut entries = std::mem::take(&mut self.entries);
-            entries.clear();
-            entries.extend((0..p * p).map(|idx| self.system_entry(idx % p, idx / p)));
+            // Inactive rows pin f_j = -F_static (zero total force).
             for (j, contact) in self.contacts.iter().enumerate() {
                 self.forces[j] = if contact.active {
                     contact.rhs
@@ -482,13 +340,61 @@ impl<'a> CoupledSolver<'a> {
                     -self.vehicles[contact.vehicle].dynamics.axles[contact.axle].static_load_n
                 };
             }
-            self.lu
-                .solve(p, |i, j| entries[i + j * p], &mut self.forces);
-            self.entries = entries;
+            for members in order.chunk_by(|a, b| a.0 == b.0) {
+                self.solve_group(members);
+            }
             if self.contact_law == ContactLaw::Full || !self.update_active_set() {
                 break;
             }
         }
+        self.order = order;
+    }
+
+    /// Sorts the contacts by group: 0 every tyre coupled through the bridge (a vehicle
+    /// block with any tyre on the span), then one group per other block, then moving
+    /// forces alone.
+    fn group_contacts(&mut self) {
+        self.bridge_blocks.clear();
+        for c in &self.contacts {
+            if let (true, Some(b)) = (c.on_span, self.vehicles[c.vehicle].block_of_axle(c.axle)) {
+                self.bridge_blocks.push((c.vehicle, b));
+            }
+        }
+        self.bridge_blocks.sort_unstable();
+        self.bridge_blocks.dedup();
+        self.order.clear();
+        for (j, c) in self.contacts.iter().enumerate() {
+            let key = match self.vehicles[c.vehicle].block_of_axle(c.axle) {
+                Some(b) if self.bridge_blocks.binary_search(&(c.vehicle, b)).is_ok() => (0, 0, 0),
+                Some(b) => (1, c.vehicle, b),
+                None => (2, j, 0),
+            };
+            self.order.push((key, j));
+        }
+        self.order.sort_unstable();
+    }
+
+    /// Matrix B_jk = delta_jk + alpha_j . Z_k + kappa_j G_jk (same vehicle block) over the
+    /// group's contacts; `forces` holds the right-hand side and receives the solution.
+    fn solve_group(&mut self, members: &[((usize, usize, usize), usize)]) {
+        let m = members.len();
+        if m == 1 && self.contacts[members[0].1].kappa == 0.0 {
+            return; // a moving force: identity row
+        }
+        let mut entries = std::mem::take(&mut self.entries);
+        entries.clear();
+        entries.extend(
+            (0..m * m).map(|idx| self.system_entry(members[idx % m].1, members[idx / m].1)),
+        );
+        self.group_rhs.clear();
+        self.group_rhs
+            .extend(members.iter().map(|&(_, j)| self.forces[j]));
+        self.lu
+            .solve(m, |i, j| entries[i + j * m], &mut self.group_rhs);
+        for (&(_, j), &f) in members.iter().zip(&self.group_rhs) {
+            self.forces[j] = f;
+        }
+        self.entries = entries;
     }
 
     fn system_entry(&self, j: usize, k: usize) -> f64 {
@@ -503,10 +409,7 @@ impl<'a> CoupledSolver<'a> {
             entry += self.alpha_dot(j, &ck.z);
         }
         if cj.vehicle == ck.vehicle {
-            let v = &self.vehicles[cj.vehicle];
-            if let Some(dof) = v.dynamics.axles[cj.axle].dof {
-                entry += cj.kappa * v.w_tyres[(dof, ck.axle)];
-            }
+            entry += cj.kappa * self.vehicles[cj.vehicle].tyre_coupling(cj.axle, ck.axle);
         }
         entry
     }
@@ -536,9 +439,9 @@ impl<'a> CoupledSolver<'a> {
         let contact = &self.contacts[j];
         if !contact.active {
             let v = &self.vehicles[contact.vehicle];
-            let Some(dof) = v.dynamics.axles[contact.axle].dof else {
+            if v.dynamics.axles[contact.axle].dof.is_none() {
                 return 0.0;
-            };
+            }
             // u = u0 - Z f, y = y0 + W f: the law's linear form at that state.
             let mut value = contact.rhs;
             for (k, ck) in self.contacts.iter().enumerate() {
@@ -546,7 +449,8 @@ impl<'a> CoupledSolver<'a> {
                     value -= self.alpha_dot(j, &ck.z) * self.forces[k];
                 }
                 if ck.vehicle == contact.vehicle {
-                    value -= contact.kappa * v.w_tyres[(dof, ck.axle)] * self.forces[k];
+                    value -=
+                        contact.kappa * v.tyre_coupling(contact.axle, ck.axle) * self.forces[k];
                 }
             }
             return value;
@@ -567,9 +471,7 @@ impl<'a> CoupledSolver<'a> {
         let c = self.bridge.coefficients;
         for (k, contact) in self.contacts.iter().enumerate() {
             let v = &mut self.vehicles[contact.vehicle];
-            if v.dynamics.n_dof() > 0 {
-                v.y0.axpy(self.forces[k], &v.w_tyres.column(contact.axle), 1.0);
-            }
+            v.add_tyre_force(contact.axle, self.forces[k]);
             let total = v.dynamics.axles[contact.axle].static_load_n + self.forces[k];
             v.contact_force_n[contact.axle] = total;
             v.in_contact[contact.axle] = contact.active;
@@ -581,14 +483,7 @@ impl<'a> CoupledSolver<'a> {
             if v.in_contact.iter().any(|&t| !t) || v.contact_force_n.iter().any(|&f| f < 0.0) {
                 v.contact_loss_steps += 1;
             }
-            let n = v.dynamics.n_dof();
-            for i in 0..n {
-                let y_next = v.y0[i];
-                let a_next = c.acceleration(y_next, v.state.u[i], v.state.v[i], v.state.a[i]);
-                v.state.v[i] += c.dt_s * ((1.0 - c.gamma) * v.state.a[i] + c.gamma * a_next);
-                v.state.a[i] = a_next;
-                v.state.u[i] = y_next;
-            }
+            v.finish_step(&c);
         }
     }
 

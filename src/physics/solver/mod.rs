@@ -2,6 +2,7 @@
 //! vehicle-bridge step, and stepping it with the divergence check.
 
 mod coupled;
+mod coupled_vehicle;
 mod direct;
 mod linear;
 mod newmark;
