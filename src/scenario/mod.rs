@@ -31,7 +31,10 @@ pub use crate::record::{Layout, SensorKind};
 pub use instruments::{AxleDetectorSpec, GnssSpec, VehicleMountSpec};
 use parse_error::toml_error;
 use resolve::unique_segment;
-pub use resolve::{F1_RANGE_HZ, MAX_DURATION_S, MAX_ROAD_M, MAX_SPAN_M, MAX_SPEED_M_S, MAX_STEPS};
+pub use resolve::{
+    F1_RANGE_HZ, MAX_DURATION_S, MAX_ROAD_M, MAX_SPAN_M, MAX_SPEED_M_S, MAX_STEPS,
+    MAX_TRAIN_SPEED_M_S,
+};
 pub use resolved::{
     Resolved, ResolvedSensor, ResolvedVehicle, MIN_STEPS_PER_MODE_PERIOD,
     MIN_STEPS_PER_SENSOR_PERIOD,
@@ -298,14 +301,21 @@ impl Default for RoadSection {
 /// One vehicle with its entry time.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
+// A train may run faster than a road vehicle (the loader's MAX_TRAIN_SPEED_M_S vs
+// MAX_SPEED_M_S).
+#[schemars(extend(
+    "if" = { "properties": { "model": { "properties": { "kind": { "const": "train" } } } } },
+    "then" = { "properties": { "speed_m_s": { "maximum": 150.0 } } },
+    "else" = { "properties": { "speed_m_s": { "maximum": 100.0 } } }
+))]
 pub struct VehicleEntry {
     /// Vehicle id in the truth streams (default: 1-based index).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub id: Option<u32>,
     /// The vehicle model, chosen by `kind`.
     pub model: VehicleModelSpec,
-    /// Speed (m/s, > 0, at most 100).
-    #[schemars(transform = bounds::positive, range(max = resolve::MAX_SPEED_M_S))]
+    /// Speed (m/s, > 0; at most 100 for a road vehicle, 150 for a train).
+    #[schemars(transform = bounds::positive, range(max = resolve::MAX_TRAIN_SPEED_M_S))]
     pub speed_m_s: f64,
     /// Time at which the front axle is at the start of the approach (s, default 0), at
     /// most 30 days.

@@ -11,6 +11,7 @@ use crate::error::{
 use crate::measurement::wim::WimStation;
 use crate::physics::bridge::{BeamProperties, ModelSpec};
 use crate::physics::solver::NewmarkCoefficients;
+use crate::physics::vehicle::VehicleModelSpec;
 
 /// Longest run: 30 days (s).
 pub const MAX_DURATION_S: f64 = 30.0 * 86_400.0;
@@ -26,6 +27,10 @@ pub const MAX_ROAD_M: f64 = 100_000.0;
 
 /// Fastest vehicle (m/s, 360 km/h): beyond any road traffic.
 pub const MAX_SPEED_M_S: f64 = 100.0;
+
+/// Fastest train accepted (m/s): 540 km/h, above the 1.2 x line speed of any high-speed
+/// line's dynamic check.
+pub const MAX_TRAIN_SPEED_M_S: f64 = 150.0;
 
 /// The first natural frequency a bridge may have (Hz, closed form of the uniform beam):
 /// road bridges have 0.2-30 Hz, laboratory beams up to a few hundred. Outside this range
@@ -454,11 +459,16 @@ impl Scenario {
             let path = self.vehicle_path(i);
             let dynamics = v.model.build(&format!("{path}.model"))?;
             require_positive(&format!("{path}.speed_m_s"), v.speed_m_s)?;
-            if v.speed_m_s > MAX_SPEED_M_S {
+            let is_train = matches!(v.model, VehicleModelSpec::Train(_));
+            let (max_speed, what) = match is_train {
+                true => (MAX_TRAIN_SPEED_M_S, "for a train"),
+                false => (MAX_SPEED_M_S, "for a road vehicle"),
+            };
+            if v.speed_m_s > max_speed {
                 return Err(Error::invalid(
                     format!("{path}.speed_m_s"),
                     num(v.speed_m_s),
-                    format!("must be at most {MAX_SPEED_M_S} m/s"),
+                    format!("must be at most {max_speed} m/s {what}"),
                 ));
             }
             require_non_negative(&format!("{path}.entry_time_s"), v.entry_time_s)?;
@@ -469,7 +479,9 @@ impl Scenario {
                     "must be at most 30 days",
                 ));
             }
-            if dynamics.wheelbase_m() >= self.road.approach_m {
+            // A train's rear cars may wait on the level track before the modelled
+            // approach (the profile is held at its first value there).
+            if !is_train && dynamics.wheelbase_m() >= self.road.approach_m {
                 return Err(Error::invalid(
                     "road.approach_m",
                     self.road.approach_m,

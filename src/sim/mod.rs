@@ -51,7 +51,6 @@ pub struct RunSummary {
     pub dlc: Vec<(u32, u32, f64, f64)>,
     pub contact_loss_steps: u64,
     pub road_description: String,
-    pub road_csv: String,
     /// Simulated time at which a stop request ended the run early (s).
     pub stopped_at_s: Option<f64>,
     /// Largest midspan deflection, either sign, at the solver rate (m).
@@ -365,7 +364,6 @@ pub fn run_controlled(
         dlc: tracker.dlc_ratios(&solver),
         contact_loss_steps: tracker.contact_loss_steps(&solver),
         road_description: prepared.road.describe().to_string(),
-        road_csv: prepared.road.to_csv(),
         stopped_at_s: stopped_at.map(|step| step as f64 * dt_s),
         peak_midspan_deflection_m: peak_midspan_m,
         model_rebuilds: condition.map_or(0, |c| c.rebuilds),

@@ -50,6 +50,7 @@ mod split_output;
 mod sweep;
 mod traffic;
 mod traffic_run;
+mod trains;
 mod vehicle_instruments;
 mod verification;
 mod wim_models;

@@ -8,6 +8,10 @@ pub trait RoadSurface {
     fn elevation_m(&self, x_m: f64) -> f64;
     /// dr/dx (m/m).
     fn slope(&self, x_m: f64) -> f64;
+    /// Both at once (a profile finds its interval once).
+    fn elevation_and_slope(&self, x_m: f64) -> (f64, f64) {
+        (self.elevation_m(x_m), self.slope(x_m))
+    }
 }
 
 impl RoadSurface for RoadProfile {
@@ -16,6 +20,9 @@ impl RoadSurface for RoadProfile {
     }
     fn slope(&self, x_m: f64) -> f64 {
         RoadProfile::slope(self, x_m)
+    }
+    fn elevation_and_slope(&self, x_m: f64) -> (f64, f64) {
+        RoadProfile::elevation_and_slope(self, x_m)
     }
 }
 

@@ -298,8 +298,7 @@ impl<'a> CoupledSolver<'a> {
             );
             contact.kappa = kt + c.a1 * ct;
             let beta_y = -c.a1 * v.state.u[dof] - c.a4 * v.state.v[dof] - c.a5 * v.state.a[dof];
-            let r = self.road.elevation_m(contact.x_m);
-            let r_slope = self.road.slope(contact.x_m);
+            let (r, r_slope) = self.road.elevation_and_slope(contact.x_m);
             let mut known = kt * r + ct * speed * r_slope - ct * beta_y;
             let mut alpha_u0 = 0.0;
             if contact.on_span {

@@ -8,6 +8,7 @@ use super::models::{quarter_car, rigid_body_on_axles, sprung_mass, AxleParams};
 use super::pitch_plane_spec::{
     named, pitch_plane_spec, positive, preset_or_default, require_within, validated_axles,
 };
+use super::train_spec::TrainSpec;
 use super::truck_spec::{ArticulatedSpec, RigidTruckSpec};
 use crate::base::schema as bounds;
 use crate::error::{require_non_negative, require_positive, Error, Result};
@@ -71,6 +72,10 @@ pub enum VehicleModelSpec {
     /// Tractor + semi-trailer: two bodies hinged at the fifth wheel, one unsprung mass
     /// per axle. A `preset` gives every field; fields next to it override it.
     Articulated(ArticulatedSpec),
+    /// A railway train: a preset (HSLM-A1..A10, ICE 3, the Manchester benchmark vehicle)
+    /// or a composition of cars, as vehicles or as moving forces. Its wheelsets are the
+    /// axles, numbered front to rear along the whole train.
+    Train(TrainSpec),
 }
 crate::base::tagged::kind_tagged!(VehicleModelSpec);
 
@@ -256,6 +261,7 @@ impl VehicleModelSpec {
             VehicleModelSpec::HalfCar(spec) => build_half_car(spec, path),
             VehicleModelSpec::RigidTruck(spec) => spec.params(path)?.build(&spec.model_name()),
             VehicleModelSpec::Articulated(spec) => spec.params(path)?.build(&spec.model_name()),
+            VehicleModelSpec::Train(spec) => spec.build(path),
         }
     }
 }

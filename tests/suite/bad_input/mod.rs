@@ -17,6 +17,7 @@ mod cli;
 mod harness;
 mod monitoring;
 mod physics;
+mod railway;
 mod schema_view;
 mod syntax;
 
@@ -27,6 +28,7 @@ use cli::{cli_cases, output_cases};
 use harness::{edited, run_all, Case};
 use monitoring::{condition_cases, instrument_cases, monitoring_cases, traffic_cases};
 use physics::physics_cases;
+use railway::railway_cases;
 use syntax::syntax_cases;
 
 #[test]
@@ -47,6 +49,11 @@ fn monitoring() {
 #[test]
 fn instruments() {
     run_all("instruments", &instrument_cases());
+}
+
+#[test]
+fn railway() {
+    run_all("railway", &railway_cases());
 }
 
 #[test]
@@ -83,6 +90,7 @@ fn all_cases() -> Vec<Case> {
         monitoring_cases(),
         traffic_cases(),
         condition_cases(),
+        railway_cases(),
     ]
     .into_iter()
     .flatten()

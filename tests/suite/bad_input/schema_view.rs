@@ -49,6 +49,14 @@ pub const SCHEMA_ACCEPTS: &[(&str, &str)] = &[
         "the bound is the vehicle's wheelbase",
     ),
     (
+        "car without its parameters",
+        "which keys are needed depends on whether a preset gives them",
+    ),
+    (
+        "overlapping axles",
+        "the bound is the car's wheelbase (half of it)",
+    ),
+    (
         "centre of gravity outside the wheelbase",
         "the bound is the preset's wheelbase",
     ),

@@ -1,0 +1,101 @@
+//! Trains (issue 19): presets, compositions, speeds and timetable entries.
+
+use super::harness::{Case, Edit::Set};
+
+/// The one vehicle of the default scenario, id 1, made a train.
+pub(super) fn railway_cases() -> Vec<Case> {
+    vec![
+        Case::edit(
+            "unknown train preset",
+            &[Set(
+                "vehicles.0.model",
+                "{ kind = \"train\", preset = \"hslm_a11\" }",
+            )],
+            &[
+                "vehicles.0[1].model.preset = \"hslm_a11\"",
+                "is not a train preset",
+                "hslm_a10",
+            ],
+        ),
+        Case::edit(
+            "unknown car preset",
+            &[Set(
+                "vehicles.0.model",
+                "{ kind = \"train\", cars = [{ preset = \"tgv\" }] }",
+            )],
+            &[
+                "vehicles.0[1].model.cars.0.preset = \"tgv\"",
+                "ice3_end_car",
+            ],
+        ),
+        Case::edit(
+            "composition with no cars",
+            &[Set("vehicles.0.model", "{ kind = \"train\", cars = [] }")],
+            &["vehicles.0[1].model.cars = []", "at least one car"],
+        ),
+        Case::edit(
+            "preset and cars together",
+            &[Set(
+                "vehicles.0.model",
+                "{ kind = \"train\", preset = \"ice3\", cars = [{ preset = \"ice3_coach\" }] }",
+            )],
+            &[
+                "vehicles.0[1].model = { preset = \"ice3\", cars = [1 entries] }",
+                "give preset or cars",
+            ],
+        ),
+        Case::edit(
+            "overlapping axles",
+            &[Set(
+                "vehicles.0.model",
+                "{ kind = \"train\", cars = [{ preset = \"manchester_benchmark\", \
+                 front_overhang_m = 1.0 }] }",
+            )],
+            &[
+                "vehicles.0[1].model.cars.0.front_overhang_m = 1",
+                "at least half the wheelbase (1.28 m)",
+            ],
+        ),
+        Case::edit(
+            "car count of zero",
+            &[Set(
+                "vehicles.0.model",
+                "{ kind = \"train\", cars = [{ preset = \"ice3_coach\", count = 0 }] }",
+            )],
+            &["vehicles.0[1].model.cars.0.count = 0", "between 1 and 100"],
+        ),
+        Case::edit(
+            "car without its parameters",
+            &[Set(
+                "vehicles.0.model",
+                "{ kind = \"train\", cars = [{ body_mass_kg = 3e4 }] }",
+            )],
+            &["vehicles.0[1].model.cars.0.wheelbase_m = (missing)"],
+        ),
+        Case::edit(
+            "train faster than 150 m/s",
+            &[
+                Set(
+                    "vehicles.0.model",
+                    "{ kind = \"train\", preset = \"ice3\" }",
+                ),
+                Set("vehicles.0.speed_m_s", "160.0"),
+            ],
+            &[
+                "vehicles.0[1].speed_m_s = 160",
+                "at most 150 m/s for a train",
+            ],
+        ),
+        Case::edit(
+            "timetable entry after 30 days",
+            &[
+                Set(
+                    "vehicles.0.model",
+                    "{ kind = \"train\", preset = \"ice3\" }",
+                ),
+                Set("vehicles.0.entry_time_s", "3.0e6"),
+            ],
+            &["vehicles.0[1].entry_time_s = 3000000", "at most 30 days"],
+        ),
+    ]
+}

@@ -1,0 +1,221 @@
+//! Trains (`physics::vehicle::train*`): the HSLM-A axle layouts against EN 1991-2 Annex E
+//! as encoded in an independent code, every HSLM axle carrying P in the vehicle models,
+//! the articulated rake's load path, the Manchester benchmark vehicle's modes against
+//! estimates written out by hand, and the coupled solver's split of a train into cars
+//! against the direct solver that assembles and factorizes the whole system each step.
+
+use bridgetwin::physics::bridge::{
+    BeamProperties, BridgeModel, ModelSpec, PointQuantity, SparseVec,
+};
+use bridgetwin::physics::road::{IsoClass, RoadProfile, RoadProfileSpec};
+use bridgetwin::physics::solver::{
+    vehicle_natural_frequencies_hz, ContactLaw, CoupledSolver, CoupledVehicle, DirectSolver,
+    NewmarkCoefficients, NewmarkParams, SolveMode, Storage,
+};
+use bridgetwin::physics::vehicle::{
+    car_preset, train_preset, Representation, VehicleDynamics, GRAVITY_M_S2, HSLM_A,
+};
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+
+fn train(name: &str, representation: Representation) -> VehicleDynamics {
+    train_preset(name).unwrap().build(representation).unwrap()
+}
+
+#[test]
+fn hslm_a_axles_are_those_of_annex_e() {
+    // First-to-last axle distance of A1..A10 from the axle files of the UPM CALDINTAV code
+    // (a01-a10.def), an independent encoding of EN 1991-2 Figure E.8 and Table E.4; and
+    // the first axles of A1 from the same file.
+    let span_m = [
+        397.525, 398.525, 397.525, 394.525, 389.525, 382.525, 397.525, 387.525, 375.525, 388.525,
+    ];
+    for (i, &(n, _, _, _)) in HSLM_A.iter().enumerate() {
+        let t = train(&format!("hslm_a{}", i + 1), Representation::MovingForces);
+        assert_eq!(t.axles.len(), 2 * (n + 3) + 8, "A{}", i + 1);
+        assert!(
+            (t.wheelbase_m() - span_m[i]).abs() < 1e-9,
+            "A{}: {}",
+            i + 1,
+            t.wheelbase_m()
+        );
+    }
+    let a1: Vec<f64> = train("hslm_a1", Representation::MovingForces)
+        .axles
+        .iter()
+        .map(|a| a.offset_m)
+        .collect();
+    let want = [
+        0.0, 3.0, 14.0, 17.0, 20.525, 22.525, 35.7625, 37.7625, 53.7625, 55.7625,
+    ];
+    for (got, want) in a1.iter().zip(want) {
+        assert!((got - want).abs() < 1e-9, "{a1:?}");
+    }
+    // The rear mirrors the front.
+    let last = a1[a1.len() - 1];
+    for (front, rear) in a1.iter().zip(a1.iter().rev()) {
+        assert!((front - (last - rear)).abs() < 1e-9);
+    }
+}
+
+#[test]
+fn every_hslm_axle_carries_p_as_moving_force_and_as_vehicle() {
+    // The articulated rake is statically determinate (each body on two pivots, each bogie
+    // on two wheelsets), so the body masses chosen for P give P exactly, to round-off.
+    for (i, &(_, _, _, p_kn)) in HSLM_A.iter().enumerate() {
+        let name = format!("hslm_a{}", i + 1);
+        for r in [Representation::MovingForces, Representation::Vehicles] {
+            for a in &train(&name, r).axles {
+                assert!(
+                    (a.static_load_n / (p_kn * 1e3) - 1.0).abs() < 1e-9,
+                    "{name} {r:?}: {}",
+                    a.static_load_n
+                );
+            }
+        }
+    }
+    // The vehicle model of A1 couples its whole articulated rake: one Jacobs bogie's
+    // bounce couples the two bodies resting on it.
+    let a1 = train("hslm_a1", Representation::Vehicles);
+    assert_eq!(a1.axles.len(), 50);
+    assert_eq!(
+        a1.n_dof(),
+        2 * 22 + 2 * 25 + 50,
+        "bodies, bogies, wheelsets"
+    );
+}
+
+#[test]
+fn ice3_cars_carry_their_weight_by_the_lever_rule() {
+    // A conventional car with its centre midway: each wheelset a quarter of the body, half
+    // a bogie and itself (Goicolea 2014's masses).
+    let t = train("ice3", Representation::Vehicles);
+    assert_eq!(t.axles.len(), 32);
+    let end = car_preset("ice3_end_car").unwrap();
+    let expected =
+        (end.body_mass_kg / 4.0 + end.bogie_mass_kg / 2.0 + end.wheelset_mass_kg) * GRAVITY_M_S2;
+    assert!((t.axles[0].static_load_n / expected - 1.0).abs() < 1e-12);
+    let total: f64 = t.axles.iter().map(|a| a.static_load_n).sum();
+    let mass = 6.0 * 47_800.0 + 2.0 * 41_200.0 + 8.0 * 2.0 * 3_500.0 + 32.0 * 1_800.0;
+    assert!(
+        (total / (mass * GRAVITY_M_S2) - 1.0).abs() < 1e-12,
+        "{total} vs {}",
+        mass * GRAVITY_M_S2
+    );
+    // Coupled ICE 3 units: 16 cars, 64 axles, the second unit 200.67 m behind the first
+    // (8 cars: 2 x 25.835 + 6 x 24.775 m).
+    let double = train("ice3_double", Representation::Vehicles);
+    assert_eq!(double.axles.len(), 64);
+    let unit_m = 2.0 * 25.835 + 6.0 * 24.775;
+    assert!((double.axles[32].offset_m - double.axles[0].offset_m - unit_m).abs() < 1e-9);
+}
+
+#[test]
+fn manchester_vehicle_modes_match_hand_estimates() {
+    // No published natural frequencies of the benchmark's vertical model were found;
+    // these are estimates written out by hand from its parameters. Body bounce: the
+    // secondary in series with the primaries and contacts of a bogie, two bogies; pitch:
+    // the same springs at the pivots' lever 9.5 m about the body inertia. Bogie bounce: the
+    // bogie frame on its two primaries with the body held still (the secondary adds to
+    // it). The coupled modes differ from these by the neighbours' participation: 5 %.
+    let car = car_preset("manchester_benchmark").unwrap();
+    let dynamics = train("manchester_benchmark", Representation::Vehicles);
+    let hz = vehicle_natural_frequencies_hz(&dynamics).unwrap();
+    let two_pi = 2.0 * std::f64::consts::PI;
+    let contact = dynamics.axles[0].tyre_stiffness_n_m;
+    let per_bogie = 1.0
+        / (1.0 / car.secondary.stiffness_n_m
+            + 1.0 / (2.0 * car.primary.stiffness_n_m)
+            + 1.0 / (2.0 * contact));
+    let bounce = (2.0 * per_bogie / car.body_mass_kg).sqrt() / two_pi;
+    let pitch = (2.0 * per_bogie * 9.5 * 9.5 / car.body_pitch_inertia_kg_m2).sqrt() / two_pi;
+    let bogie = ((2.0 * car.primary.stiffness_n_m + car.secondary.stiffness_n_m)
+        / car.bogie_mass_kg)
+        .sqrt()
+        / two_pi;
+    let near = |f: f64| hz.iter().any(|&h| (h / f - 1.0).abs() < 0.05);
+    for (what, f) in [
+        ("bounce", bounce),
+        ("pitch", pitch),
+        ("bogie bounce", bogie),
+    ] {
+        assert!(near(f), "{what} {f:.3} Hz not within 5 % of {hz:?}");
+    }
+    // Body modes near 1 Hz, as a passenger coach's ride.
+    assert!(
+        (0.6..1.6).contains(&bounce) && (0.6..1.6).contains(&pitch),
+        "{bounce} {pitch}"
+    );
+}
+
+/// Runs a train across the paper's bridge with both solvers and returns the largest
+/// differences of midspan deflection and wheel force relative to their peaks, and the
+/// number of blocks the coupled solver split the train into.
+fn split_vs_direct(name: &str) -> (f64, f64, usize) {
+    let model = BridgeModel::build(
+        &BeamProperties::paper_default(),
+        &ModelSpec::FiniteElement { elements: 16 },
+        0.02,
+    )
+    .unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(19);
+    let road = RoadProfile::build(
+        &RoadProfileSpec::iso8608(IsoClass::A),
+        -100.0,
+        200.0,
+        &mut rng,
+    )
+    .unwrap();
+    let coef = NewmarkCoefficients::new(2e-3, NewmarkParams::default()).unwrap();
+    let (start, speed) = (-10.0, 40.0);
+    let dynamics = train(name, Representation::Vehicles);
+    let mut split = CoupledSolver::new(
+        &model,
+        &road,
+        coef,
+        SolveMode::Prefactored(Storage::Sparse),
+        ContactLaw::Full,
+    )
+    .unwrap();
+    split.add_vehicle(CoupledVehicle::new(1, dynamics.clone(), speed, start, 0));
+    let mut direct = DirectSolver::new(&model, &road, coef).unwrap();
+    direct.add_vehicle(CoupledVehicle::new(1, dynamics.clone(), speed, start, 0));
+    let mut op = SparseVec::default();
+    let (mut du, mut u_peak, mut df, mut f_peak) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
+    let steps = ((30.0 + dynamics.wheelbase_m() - start) / speed / coef.dt_s) as usize;
+    for _ in 0..steps {
+        split.advance().unwrap();
+        direct.advance().unwrap();
+        let a = split.bridge_response(15.0, PointQuantity::Deflection, 0, &mut op);
+        let b = direct.bridge_response(15.0, PointQuantity::Deflection, 0, &mut op);
+        du = du.max((a - b).abs());
+        u_peak = u_peak.max(a.abs());
+        for (fa, fb) in split.vehicles[0]
+            .contact_force_n
+            .iter()
+            .zip(&direct.vehicles[0].contact_force_n)
+        {
+            df = df.max((fa - fb).abs());
+            f_peak = f_peak.max(fa.abs());
+        }
+    }
+    assert!(u_peak > 1e-3, "the train must load the bridge: {u_peak}");
+    (du / u_peak, df / f_peak, split.vehicles[0].block_count())
+}
+
+#[test]
+fn a_train_split_into_its_cars_matches_the_direct_solver() {
+    // Same Newmark, same linear contact law; the coupled solver solves each car apart and
+    // the wheel forces in independent groups, the direct solver factorizes the whole
+    // system: only round-off may differ (condition numbers ~1e8 with the Hertz springs).
+    let (du, df, blocks) = split_vs_direct("ice3");
+    assert_eq!(blocks, 8, "eight cars, no spring between them");
+    assert!(du < 1e-8 && df < 1e-8, "deflection {du:e}, force {df:e}");
+}
+
+#[test]
+fn an_articulated_rake_is_one_block_and_matches_the_direct_solver() {
+    let (du, df, blocks) = split_vs_direct("hslm_a9");
+    assert_eq!(blocks, 3, "power car, articulated rake, power car");
+    assert!(du < 1e-8 && df < 1e-8, "deflection {du:e}, force {df:e}");
+}
