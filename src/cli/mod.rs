@@ -99,6 +99,9 @@ pub enum StudyKind {
     /// A three-span girder: DAF of the sagging and hogging moments and DLC vs speed and
     /// road, against the codes; lumped mass vs finite elements on it.
     Continuous,
+    /// The EN 1991-2 6.4.6 dynamic check: the ten HSLM-A trains vs speed on a short span
+    /// and the paper's bridge, moving forces against vehicle models, DER and LIR.
+    Hslm,
 }
 
 /// Parses arguments, runs the command and maps the outcome to an exit code:
@@ -172,6 +175,7 @@ impl StudyArgs {
             StudyKind::Dlc => "dlc",
             StudyKind::SolverPaths => "solver-paths",
             StudyKind::Continuous => "continuous",
+            StudyKind::Hslm => "hslm",
         }
     }
 }

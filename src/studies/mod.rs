@@ -6,6 +6,7 @@ pub mod bench;
 pub mod continuous;
 pub mod discretization;
 pub mod dlc;
+pub mod hslm;
 mod output;
 pub mod plot;
 pub mod solver_paths;
@@ -31,10 +32,11 @@ pub fn run_named(
         "dlc" => dlc::run(out, quick, progress).map(|_| ()),
         "solver-paths" => solver_paths::run(out, quick, progress).map(|_| ()),
         "continuous" => continuous::run(out, quick, progress).map(|_| ()),
+        "hslm" => hslm::run(out, quick, progress).map(|_| ()),
         other => Err(Error::invalid(
             "study",
             other,
-            "is not a study (known: discretization, dlc, solver-paths, continuous)",
+            "is not a study (known: discretization, dlc, solver-paths, continuous, hslm)",
         )),
     }
 }

@@ -25,6 +25,7 @@ mod examples;
 mod foxglove;
 mod girder_conditions;
 mod girder_sensors;
+mod hslm_study;
 mod input_decoders;
 mod input_read;
 mod inspect;

@@ -38,6 +38,7 @@ pub mod frf;
 pub mod moving_force;
 pub mod moving_mass;
 pub mod oscillator;
+pub mod resonance;
 pub mod road_irregularity;
 pub mod sprung_mass;
 pub mod stepped_beam;

@@ -39,6 +39,24 @@ pub fn moving_force_history_at(
     case: &MovingForceCase,
     probe_m: f64,
 ) -> Result<(Vec<f64>, Vec<f64>)> {
+    let force = VehicleDynamics::moving_forces(&[case.force_n], &[0.0]);
+    history_at(case, &force, probe_m)
+}
+
+/// Midspan deflection history, DOWNWARD positive, of `train` (its first axle entering at
+/// t = 0) on the case's beam (the case's own force is not used), and the times.
+pub fn train_history(
+    case: &MovingForceCase,
+    train: &VehicleDynamics,
+) -> Result<(Vec<f64>, Vec<f64>)> {
+    history_at(case, train, case.beam.length_m() / 2.0)
+}
+
+fn history_at(
+    case: &MovingForceCase,
+    train: &VehicleDynamics,
+    probe_m: f64,
+) -> Result<(Vec<f64>, Vec<f64>)> {
     let model = BridgeModel::build(&case.beam, &case.spec, case.damping_ratio)?;
     let coefficients = NewmarkCoefficients::new(case.dt_s, NewmarkParams::default())?;
     let road = LevelRoad;
@@ -49,9 +67,15 @@ pub fn moving_force_history_at(
         SolveMode::Prefactored(Storage::Dense),
         ContactLaw::Full,
     )?;
-    let force = VehicleDynamics::moving_forces(&[case.force_n], &[0.0]);
-    solver.add_vehicle(CoupledVehicle::new(0, force, case.speed_m_s, 0.0, 0));
-    let duration_s = case.beam.length_m() / case.speed_m_s + case.free_time_s;
+    solver.add_vehicle(CoupledVehicle::new(
+        0,
+        train.clone(),
+        case.speed_m_s,
+        0.0,
+        0,
+    ));
+    let duration_s =
+        (case.beam.length_m() + train.wheelbase_m()) / case.speed_m_s + case.free_time_s;
     let steps = (duration_s / case.dt_s).round() as u64;
     let mut op = SparseVec::with_capacity(model.n_dof());
     let mut times = vec![0.0];

@@ -8,6 +8,7 @@ mod beam_checks;
 mod girder_checks;
 mod harness;
 mod support_checks;
+mod train_checks;
 mod vbi;
 
 use serde::Serialize;
@@ -18,10 +19,11 @@ pub use beam_checks::{
 };
 pub use girder_checks::{girder_frequencies, girder_moving_force, girder_statics};
 pub use harness::{
-    manufactured_history, moving_force_history, moving_force_history_at, ManufacturedCase,
-    MovingForceCase,
+    manufactured_history, moving_force_history, moving_force_history_at, train_history,
+    ManufacturedCase, MovingForceCase,
 };
 pub use support_checks::girder_supports;
+pub use train_checks::{train_moving_forces, train_resonance, train_vehicles};
 pub use vbi::{
     approach_equilibrium, road_profiles, sine_road_response, sprung_mass_crossing, static_loads,
     suspension_limits, truck_vs_moving_forces, unilateral_contact, TRUCK_COUPLED_REFERENCE,
@@ -170,6 +172,18 @@ pub fn ladder() -> Vec<CheckGroup> {
         CheckGroup {
             name: "vbi_contact",
             run: unilateral_contact,
+        },
+        CheckGroup {
+            name: "train_moving_forces",
+            run: train_moving_forces,
+        },
+        CheckGroup {
+            name: "train_resonance",
+            run: train_resonance,
+        },
+        CheckGroup {
+            name: "train_vehicles",
+            run: train_vehicles,
         },
     ]
 }
