@@ -304,7 +304,10 @@ impl Default for RoadSection {
 // A train may run faster than a road vehicle (the loader's MAX_TRAIN_SPEED_M_S vs
 // MAX_SPEED_M_S).
 #[schemars(extend(
-    "if" = { "properties": { "model": { "properties": { "kind": { "const": "train" } } } } },
+    "if" = { "properties": { "model": {
+        "description": "A train (kind = \"train\") may run at up to 150 m/s.",
+        "properties": { "kind": { "const": "train" } }
+    } } },
     "then" = { "properties": { "speed_m_s": { "maximum": 150.0 } } },
     "else" = { "properties": { "speed_m_s": { "maximum": 100.0 } } }
 ))]

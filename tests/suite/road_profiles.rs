@@ -536,7 +536,7 @@ fn bad_configuration_is_rejected_with_its_field_path() {
         ),
         (
             r#"{ kind = "iso8608", class = "A", features = [{ kind = "ramp", start_m = 0.0, length_m = 0.0, height_m = 0.1 }] }"#,
-            "road.profile.features[0].length_m = 0",
+            "road.profile.features.0.length_m = 0",
         ),
         (
             r#"{ kind = "bump", position_m = 1.0, length_m = -2.0, height_m = 0.1 }"#,

@@ -288,6 +288,11 @@ fn a_train_short_of_one_axle_or_of_its_damping_fails_the_train_rows() {
 }
 
 #[test]
+fn track_irregularity_against_its_spectrum() {
+    assert_group("track", 13);
+}
+
+#[test]
 fn every_group_is_tested_here() {
     // A new group must get a test above.
     let names: Vec<&str> = ladder().iter().map(|g| g.name).collect();
@@ -315,6 +320,7 @@ fn every_group_is_tested_here() {
             "train_moving_forces",
             "train_resonance",
             "train_vehicles",
+            "track",
         ]
     );
 }

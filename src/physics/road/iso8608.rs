@@ -15,6 +15,7 @@ use rustfft::num_complex::Complex;
 use rustfft::FftPlanner;
 
 use super::spec::N0_CYCLES_M;
+use super::track::TrackClass;
 use crate::error::{Error, Result};
 
 /// Largest FFT accepted: 2^26 samples (1 GiB of complex buffer), 1 677 km at 0.05 m.
@@ -28,6 +29,8 @@ const LINES_PER_N1: f64 = 8.0;
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct IsoBand {
     pub gd_n0_m3: f64,
+    /// A track spectrum instead of ISO 8608's (then `gd_n0_m3` is unused).
+    pub track: Option<TrackClass>,
     pub n1_cycles_m: f64,
     pub n2_cycles_m: f64,
     pub spacing_m: f64,
@@ -55,14 +58,20 @@ pub(crate) fn fft_len(n_samples: usize, band: &IsoBand) -> Result<usize> {
 /// Amplitudes `A_k` of the lines `k` (frequency `k dn`) carrying the band `[n1, n2]`.
 ///
 /// Line k stands for the bin `[(k - 1/2) dn, (k + 1/2) dn]`, cut to the band; the first and
-/// last lines take the band's ends. `A_k^2 / 2 = G_d(n0) n0^2 (1/a - 1/b)` over `[a, b]`,
-/// so the energies telescope to the exact band variance.
+/// last lines take the band's ends. `A_k^2 / 2 = G_d(n0) n0^2 (1/a - 1/b)` over `[a, b]`
+/// (or a track spectrum's closed-form integral), so the energies telescope to the exact
+/// band variance.
 pub(crate) fn line_amplitudes(band: &IsoBand, nfft: usize) -> Vec<(usize, f64)> {
     let dn = 1.0 / (nfft as f64 * band.spacing_m);
     let k_top = nfft / 2 - 1; // below Nyquist: a line there would lose its sine part
     let k_lo = ((band.n1_cycles_m / dn + 0.5).floor() as usize).max(1);
     let k_hi = ((band.n2_cycles_m / dn + 0.5).floor() as usize).min(k_top);
     let c = band.gd_n0_m3 * N0_CYCLES_M * N0_CYCLES_M;
+    // Twice the bin's variance: A_k^2 (ISO 8608 in closed form, or the track spectrum's).
+    let twice_variance = |a: f64, b: f64| match band.track {
+        Some(track) => 2.0 * track.band_variance_m2(a, b),
+        None => 2.0 * c * (1.0 / a - 1.0 / b),
+    };
     (k_lo..=k_hi)
         .filter_map(|k| {
             let kf = k as f64;
@@ -76,7 +85,7 @@ pub(crate) fn line_amplitudes(band: &IsoBand, nfft: usize) -> Vec<(usize, f64)> 
             } else {
                 (kf + 0.5) * dn
             };
-            (b > a).then(|| (k, (2.0 * c * (1.0 / a - 1.0 / b)).sqrt()))
+            (b > a).then(|| (k, twice_variance(a, b).sqrt()))
         })
         .collect()
 }
@@ -143,6 +152,7 @@ mod tests {
     fn band(tyre_patch_m: Option<f64>) -> IsoBand {
         IsoBand {
             gd_n0_m3: 64e-6,
+            track: None,
             n1_cycles_m: 0.01,
             n2_cycles_m: 4.0,
             spacing_m: 0.05,

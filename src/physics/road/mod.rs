@@ -1,4 +1,5 @@
-//! Road profiles: ISO 8608 random roughness, deterministic shapes (step, ramp, bump),
+//! Road profiles: ISO 8608 random roughness, railway track irregularity spectra (FRA
+//! classes, German high-speed), deterministic shapes (step, ramp, bump, dipped joint, void),
 //! measured profiles from CSV, the optional tyre-patch filter, and the [`RoadSurface`] the
 //! tyres roll on (a built profile or a closed-form surface).
 //!
@@ -13,11 +14,13 @@ mod iso8608;
 mod profile;
 mod spec;
 mod surface;
+mod track;
 
 pub use profile::RoadProfile;
 pub use spec::{
     iso8608_band_rms_m, iso8608_psd_m3, IsoClass, RoadFeature, RoadProfileSpec,
-    DEFAULT_N1_CYCLES_M, DEFAULT_N2_CYCLES_M, DEFAULT_SAMPLE_SPACING_M, N0_CYCLES_M,
-    TYRE_PATCH_LENGTH_M,
+    DEFAULT_N1_CYCLES_M, DEFAULT_N2_CYCLES_M, DEFAULT_SAMPLE_SPACING_M, DEFAULT_TRACK_N1_CYCLES_M,
+    DEFAULT_TRACK_N2_CYCLES_M, N0_CYCLES_M, TYRE_PATCH_LENGTH_M,
 };
 pub use surface::{ConstantRoad, LevelRoad, RoadSurface, SineRoad};
+pub use track::TrackClass;

@@ -75,7 +75,9 @@ impl RoadProfile {
             )),
             RoadProfileSpec::Step { .. }
             | RoadProfileSpec::Ramp { .. }
-            | RoadProfileSpec::Bump { .. } => {
+            | RoadProfileSpec::Bump { .. }
+            | RoadProfileSpec::DippedJoint { .. }
+            | RoadProfileSpec::Void { .. } => {
                 let features: Vec<RoadFeature> = spec.as_feature().into_iter().collect();
                 let text = features
                     .iter()
@@ -102,6 +104,42 @@ impl RoadProfile {
                     });
                 }
                 Ok(profile)
+            }
+            RoadProfileSpec::Track {
+                class,
+                n1_cycles_m,
+                n2_cycles_m,
+                sample_spacing_m,
+                features,
+            } => {
+                let band = IsoBand {
+                    gd_n0_m3: 0.0,
+                    track: Some(*class),
+                    n1_cycles_m: *n1_cycles_m,
+                    n2_cycles_m: *n2_cycles_m,
+                    spacing_m: *sample_spacing_m,
+                    tyre_patch_m: None,
+                };
+                let rms_m = class.band_variance_m2(*n1_cycles_m, *n2_cycles_m).sqrt();
+                let mut text = format!(
+                    "track irregularity, {}, wavelengths {:.3}-{:.3} m, band RMS {:.2} mm, \
+                     inverse-FFT synthesis at {} m spacing {range}",
+                    class.label(),
+                    1.0 / n2_cycles_m,
+                    1.0 / n1_cycles_m,
+                    1e3 * rms_m,
+                    band.spacing_m
+                );
+                for f in features {
+                    text += &format!("; plus {}", f.describe());
+                }
+                Ok(RoadProfile {
+                    base: Self::synthesize(&band, x_start_m, x_end_m, rng)?,
+                    features: features.clone(),
+                    sampled: true,
+                    band_rms_m: Some(rms_m),
+                    description: text,
+                })
             }
             RoadProfileSpec::Iso8608 {
                 class,
@@ -140,6 +178,7 @@ impl RoadProfile {
                 };
                 let band = IsoBand {
                     gd_n0_m3: gd,
+                    track: None,
                     n1_cycles_m: *n1_cycles_m,
                     n2_cycles_m: *n2_cycles_m,
                     spacing_m: *sample_spacing_m,

@@ -6,6 +6,7 @@
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
+use super::track::TrackClass;
 use crate::base::schema as bounds;
 use crate::error::{require_finite, require_positive, Error, Result};
 
@@ -170,6 +171,31 @@ road_shapes! {
             /// Height of the crest, m (negative: a dip).
             height_m,
         }
+        /// A dipped rail joint: a symmetric V, `-depth (1 - 2|x - position| / length)` over
+        /// `|x - position_m| < length_m / 2` (the rail ends bent down at a worn joint, the
+        /// classic wheel-impact defect). No defaults.
+        DippedJoint {
+            /// Track coordinate of the joint (the bottom of the V), m.
+            position_m,
+            /// Length of the dipped zone, m (> 0).
+            #[schemars(transform = bounds::positive)]
+            length_m,
+            /// Depth of the dip at the joint, m (> 0).
+            #[schemars(transform = bounds::positive)]
+            depth_m,
+        }
+        /// A local void under the sleepers: the rail sags over it as a raised-cosine dip
+        /// `-depth/2 (1 + cos(2 pi (x - position) / length))`, C1. No defaults.
+        Void {
+            /// Track coordinate of the middle of the void, m.
+            position_m,
+            /// Length of the unsupported zone, m (> 0).
+            #[schemars(transform = bounds::positive)]
+            length_m,
+            /// Sag at its middle, m (> 0).
+            #[schemars(transform = bounds::positive)]
+            depth_m,
+        }
     }
     /// The road profile of a scenario (`[road] profile = { kind = "iso8608", class = "A" }`).
     ///
@@ -220,6 +246,30 @@ road_shapes! {
             },
         }
         after {
+            /// A railway track's vertical irregularity from a published spectrum (FRA track
+            /// classes, German high-speed spectra), synthesized as `iso8608` is.
+            Track {
+                /// `fra_1` (worst) .. `fra_6` (best), `german_low` or `german_high`
+                /// (interference). No default.
+                class: TrackClass,
+                /// Lower band limit, cycle/m, below `n2_cycles_m`. Default 1/150 (150 m
+                /// wavelength).
+                #[serde(default = "default_track_n1")]
+                #[schemars(transform = bounds::positive)]
+                n1_cycles_m: f64,
+                /// Upper band limit, cycle/m. Default 1.0 (1 m wavelength).
+                #[serde(default = "default_track_n2")]
+                #[schemars(transform = bounds::positive)]
+                n2_cycles_m: f64,
+                /// Spacing of the synthesized samples, m (> 0). Default 0.05.
+                #[serde(default = "default_spacing")]
+                #[schemars(transform = bounds::positive)]
+                sample_spacing_m: f64,
+                /// Deterministic defects added on top (dipped joints, voids, ...).
+                /// Default: none.
+                #[serde(default, skip_serializing_if = "Vec::is_empty")]
+                features: Vec<RoadFeature>,
+            },
             /// A measured profile from a CSV file with header and columns `x_m,elevation_m`
             /// (x strictly increasing, in the road coordinate). It must cover the simulated range.
             Csv {
@@ -262,6 +312,20 @@ impl RoadFeature {
                 require_finite(&format!("{field_path}.position_m"), position_m)?;
                 require_positive(&format!("{field_path}.length_m"), length_m)?;
                 require_finite(&format!("{field_path}.height_m"), height_m)?;
+            }
+            RoadFeature::DippedJoint {
+                position_m,
+                length_m,
+                depth_m,
+            }
+            | RoadFeature::Void {
+                position_m,
+                length_m,
+                depth_m,
+            } => {
+                require_finite(&format!("{field_path}.position_m"), position_m)?;
+                require_positive(&format!("{field_path}.length_m"), length_m)?;
+                require_positive(&format!("{field_path}.depth_m"), depth_m)?;
             }
         }
         Ok(())
@@ -308,6 +372,32 @@ impl RoadFeature {
                     (0.5 * height_m * (1.0 + c), -0.5 * height_m * w * s)
                 }
             }
+            RoadFeature::DippedJoint {
+                position_m,
+                length_m,
+                depth_m,
+            } => {
+                let u = x_m - position_m;
+                let half = 0.5 * length_m;
+                if u.abs() >= half {
+                    (0.0, 0.0)
+                } else {
+                    (
+                        -depth_m * (1.0 - u.abs() / half),
+                        depth_m / half * u.signum(),
+                    )
+                }
+            }
+            RoadFeature::Void {
+                position_m,
+                length_m,
+                depth_m,
+            } => RoadFeature::Bump {
+                position_m,
+                length_m,
+                height_m: -depth_m,
+            }
+            .evaluate(x_m),
         }
     }
 
@@ -333,6 +423,16 @@ impl RoadFeature {
             } => format!(
                 "cosine bump of {height_m} m, {length_m} m long, centred at x = {position_m} m"
             ),
+            RoadFeature::DippedJoint {
+                position_m,
+                length_m,
+                depth_m,
+            } => format!("dipped joint {depth_m} m deep over {length_m} m at x = {position_m} m"),
+            RoadFeature::Void {
+                position_m,
+                length_m,
+                depth_m,
+            } => format!("void: {depth_m} m sag over {length_m} m centred at x = {position_m} m"),
         }
     }
 }
@@ -343,6 +443,18 @@ fn default_n1() -> f64 {
 
 fn default_n2() -> f64 {
     DEFAULT_N2_CYCLES_M
+}
+
+/// Default band of a track spectrum, cycle/m: 1-150 m wavelengths.
+pub const DEFAULT_TRACK_N1_CYCLES_M: f64 = 1.0 / 150.0;
+pub const DEFAULT_TRACK_N2_CYCLES_M: f64 = 1.0;
+
+fn default_track_n1() -> f64 {
+    DEFAULT_TRACK_N1_CYCLES_M
+}
+
+fn default_track_n2() -> f64 {
+    DEFAULT_TRACK_N2_CYCLES_M
 }
 
 fn default_spacing() -> f64 {
@@ -401,39 +513,33 @@ impl RoadProfileSpec {
                         ))
                     }
                 }
-                let n1 = require_positive(&format!("{field_path}.n1_cycles_m"), *n1_cycles_m)?;
-                let n2 = require_positive(&format!("{field_path}.n2_cycles_m"), *n2_cycles_m)?;
-                if n1 >= n2 {
-                    return Err(Error::invalid(
-                        format!("{field_path}.n1_cycles_m"),
-                        n1,
-                        format!("must be less than n2_cycles_m = {n2}"),
-                    ));
-                }
-                let dx =
-                    require_positive(&format!("{field_path}.sample_spacing_m"), *sample_spacing_m)?;
-                let nyquist = 0.5 / dx;
-                if n2 > nyquist {
-                    return Err(Error::invalid(
-                        format!("{field_path}.n2_cycles_m"),
-                        n2,
-                        format!(
-                            "exceeds the Nyquist frequency 0.5 / sample_spacing_m = {nyquist} \
-                             cycle/m; reduce sample_spacing_m = {dx}"
-                        ),
-                    ));
-                }
+                validate_band(field_path, *n1_cycles_m, *n2_cycles_m, *sample_spacing_m)?;
                 if let Some(a) = tyre_patch_filter_m {
                     require_positive(&format!("{field_path}.tyre_patch_filter_m"), *a)?;
                 }
                 for (i, f) in features.iter().enumerate() {
-                    f.validate(&format!("{field_path}.features[{i}]"))?;
+                    f.validate(&format!("{field_path}.features.{i}"))?;
+                }
+                Ok(())
+            }
+            RoadProfileSpec::Track {
+                n1_cycles_m,
+                n2_cycles_m,
+                sample_spacing_m,
+                features,
+                ..
+            } => {
+                validate_band(field_path, *n1_cycles_m, *n2_cycles_m, *sample_spacing_m)?;
+                for (i, f) in features.iter().enumerate() {
+                    f.validate(&format!("{field_path}.features.{i}"))?;
                 }
                 Ok(())
             }
             RoadProfileSpec::Step { .. }
             | RoadProfileSpec::Ramp { .. }
-            | RoadProfileSpec::Bump { .. } => match self.as_feature() {
+            | RoadProfileSpec::Bump { .. }
+            | RoadProfileSpec::DippedJoint { .. }
+            | RoadProfileSpec::Void { .. } => match self.as_feature() {
                 Some(f) => f.validate(field_path),
                 None => Ok(()),
             },
@@ -450,6 +556,37 @@ impl RoadProfileSpec {
             }
         }
     }
+}
+
+/// A synthesis band: `0 < n1 < n2 <= 0.5 / dx`.
+fn validate_band(
+    field_path: &str,
+    n1_cycles_m: f64,
+    n2_cycles_m: f64,
+    spacing_m: f64,
+) -> Result<()> {
+    let n1 = require_positive(&format!("{field_path}.n1_cycles_m"), n1_cycles_m)?;
+    let n2 = require_positive(&format!("{field_path}.n2_cycles_m"), n2_cycles_m)?;
+    if n1 >= n2 {
+        return Err(Error::invalid(
+            format!("{field_path}.n1_cycles_m"),
+            n1,
+            format!("must be less than n2_cycles_m = {n2}"),
+        ));
+    }
+    let dx = require_positive(&format!("{field_path}.sample_spacing_m"), spacing_m)?;
+    let nyquist = 0.5 / dx;
+    if n2 > nyquist {
+        return Err(Error::invalid(
+            format!("{field_path}.n2_cycles_m"),
+            n2,
+            format!(
+                "exceeds the Nyquist frequency 0.5 / sample_spacing_m = {nyquist} \
+                 cycle/m; reduce sample_spacing_m = {dx}"
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// RMS elevation of an ISO 8608 profile band-limited to `[n1, n2]`, m:

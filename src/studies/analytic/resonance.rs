@@ -132,8 +132,10 @@ mod tests {
         let loads: Vec<(f64, f64)> = (0..20).map(|i| (20.0 * i as f64, 2e5)).collect();
         let at = |v| lir_acceleration_m_s2(&span, &loads, v);
         let resonance = at(100.0);
-        assert!(resonance > 5.0 * at(90.0) && resonance > 5.0 * at(110.0));
+        // In phase, 20 damped residuals add to ~12 P; 10 % off, the partial sums of phasors
+        // turning by 0.2 pi stay below ~3 P.
+        assert!(resonance > 3.0 * at(90.0) && resonance > 3.0 * at(110.0));
         let der = |v| der_acceleration_m_s2(&span, &loads, v);
-        assert!(der(100.0) > 5.0 * der(90.0));
+        assert!(der(100.0) > 3.0 * der(90.0));
     }
 }

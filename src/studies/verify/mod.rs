@@ -8,6 +8,7 @@ mod beam_checks;
 mod girder_checks;
 mod harness;
 mod support_checks;
+mod track_checks;
 mod train_checks;
 mod vbi;
 
@@ -23,6 +24,7 @@ pub use harness::{
     ManufacturedCase, MovingForceCase,
 };
 pub use support_checks::girder_supports;
+pub use track_checks::track_profiles;
 pub use train_checks::{train_moving_forces, train_resonance, train_vehicles};
 pub use vbi::{
     approach_equilibrium, road_profiles, sine_road_response, sprung_mass_crossing, static_loads,
@@ -184,6 +186,10 @@ pub fn ladder() -> Vec<CheckGroup> {
         CheckGroup {
             name: "train_vehicles",
             run: train_vehicles,
+        },
+        CheckGroup {
+            name: "track",
+            run: track_profiles,
         },
     ]
 }

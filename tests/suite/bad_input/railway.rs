@@ -87,6 +87,20 @@ pub(super) fn railway_cases() -> Vec<Case> {
             ],
         ),
         Case::edit(
+            "unknown track irregularity class",
+            &[Set("road.profile", "{ kind = \"track\", class = \"fra_7\" }")],
+            &["road.profile.class", "unknown variant `fra_7`", "german_low"],
+        ),
+        Case::edit(
+            "dipped joint of negative depth",
+            &[Set(
+                "road.profile",
+                "{ kind = \"track\", class = \"german_low\", features = [{ kind = \"dipped_joint\", \
+                 position_m = 10.0, length_m = 2.0, depth_m = -0.002 }] }",
+            )],
+            &["road.profile.features.0.depth_m = -0.002"],
+        ),
+        Case::edit(
             "timetable entry after 30 days",
             &[
                 Set(
