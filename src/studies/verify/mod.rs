@@ -7,6 +7,7 @@
 mod beam_checks;
 mod girder_checks;
 mod harness;
+mod spectra;
 mod support_checks;
 mod track_checks;
 mod train_checks;

@@ -14,6 +14,7 @@ use crate::physics::road::{
     DEFAULT_TRACK_N2_CYCLES_M,
 };
 
+use super::spectra::octave_rows;
 use super::CheckRow;
 
 const GROUP: &str = "track";
@@ -100,44 +101,19 @@ pub fn track_profiles() -> Result<Vec<CheckRow>> {
         ));
         if class == TrackClass::GermanLow {
             let psd = pooled.ok_or_else(|| Error::invalid("seeds", 0, "must be positive"))?;
-            rows.extend(octave_rows(class, &psd, n2));
+            let what = format!(", {}", class.label());
+            let target = |n| g(class, n);
+            // The spectrum falls as n^-4 above Omega_c: window bias 4 (df / n)^2.
+            rows.extend(octave_rows(
+                GROUP,
+                &what,
+                "G(n) = 2 pi S(2 pi n)",
+                &psd,
+                target,
+                n2,
+                4.0,
+            ));
         }
     }
     Ok(rows)
-}
-
-/// The pooled Welch PSD over the target in octave bands (Hann, 50 % overlap: relative sd
-/// `sqrt((1 + 2 x 0.167^2) / K)`, a band of b correlated bins counting as b / 3
-/// independent; the window's smoothing of a spectrum falling as n^-4 biases by about
-/// `4 (df / n)^2`). Tolerance per band: 5 sd + that bias.
-fn octave_rows(class: TrackClass, psd: &WelchPsd, n2: f64) -> Vec<CheckRow> {
-    let sigma = ((1.0 + 2.0 * 0.167f64.powi(2)) / psd.segments as f64).sqrt();
-    let df = psd.frequencies[0];
-    let mut rows = Vec::new();
-    let mut lo = 10.0 * df;
-    while lo < n2 - 3.0 * df {
-        let hi = (2.0 * lo).min(n2 - 3.0 * df);
-        let ratios: Vec<f64> = psd
-            .frequencies
-            .iter()
-            .zip(&psd.density)
-            .filter(|(&n, _)| n >= lo && n < hi)
-            .map(|(&n, &d)| d / g(class, n))
-            .collect();
-        let bins = ratios.len() as f64;
-        rows.push(CheckRow::relative(
-            GROUP,
-            format!(
-                "Welch PSD / target, {}, n in [{lo:.3}, {hi:.3}) cycle/m, {} bins",
-                class.label(),
-                ratios.len()
-            ),
-            "G(n) = 2 pi S(2 pi n)",
-            1.0,
-            ratios.iter().sum::<f64>() / bins,
-            5.0 * sigma / (bins / 3.0).sqrt() + 4.0 * (df / lo).powi(2),
-        ));
-        lo = hi;
-    }
-    rows
 }

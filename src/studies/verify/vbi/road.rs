@@ -80,37 +80,14 @@ pub fn road_profiles() -> Result<Vec<CheckRow>> {
         ));
     }
     let psd = pooled_psd.ok_or_else(|| Error::invalid("seeds", 0, "must be positive"))?;
-    // Hann, 50 % overlap: the average of K periodograms has relative sd
-    // sqrt((1 + 2 * 0.167^2) / K) (Welch 1967); adjacent bins are correlated, so a band of
-    // b bins counts as b / 3 independent ones; the window smooths the n^-2 spectrum by a
-    // relative bias (df / n)^2 (1 % at bin 10). Tolerance per band: 5 sd + bias.
-    let sigma = ((1.0 + 2.0 * 0.167f64.powi(2)) / psd.segments as f64).sqrt();
-    let df = psd.frequencies[0];
-    let mut lo = 10.0 * df;
-    while lo < n2 - 3.0 * df {
-        let hi = (2.0 * lo).min(n2 - 3.0 * df);
-        let ratios: Vec<f64> = psd
-            .frequencies
-            .iter()
-            .zip(&psd.density)
-            .filter(|(&n, _)| n >= lo && n < hi)
-            .map(|(&n, &g)| g / iso8608_psd_m3(1.0, n))
-            .collect();
-        let bins = ratios.len() as f64;
-        let mean = ratios.iter().sum::<f64>() / bins;
-        rows.push(CheckRow::relative(
-            GROUP,
-            format!(
-                "Welch PSD / target, n in [{lo:.3}, {hi:.3}) cycle/m, {} bins, {} segments",
-                ratios.len(),
-                psd.segments
-            ),
-            "G_d(n) / G_d (1)",
-            1.0,
-            mean,
-            5.0 * sigma / (bins / 3.0).sqrt() + (df / lo).powi(2),
-        ));
-        lo = hi;
-    }
+    rows.extend(crate::studies::verify::spectra::octave_rows(
+        GROUP,
+        "",
+        "G_d(n) / G_d (1)",
+        &psd,
+        |n| iso8608_psd_m3(1.0, n),
+        n2,
+        1.0,
+    ));
     Ok(rows)
 }
