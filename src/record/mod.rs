@@ -12,6 +12,7 @@ mod forecast;
 mod manifest;
 mod quantities;
 mod records;
+mod trigger;
 mod wim;
 
 pub use forecast::{ForecastRecords, RecordForecast, SensorForecast};
@@ -25,4 +26,5 @@ pub use records::{
     AxleHit, AxleState, ContactPoint, EventLevel, GnssFix, ModalRecord, Record, Recorder,
     VecRecorder, VehicleRecord, VehicleStateRecord, WimRecordData,
 };
+pub use trigger::{merged_windows, TriggerWindow, Triggered};
 pub use wim::{AppliedErrors, AxleGroup, LoadReference, WimMeasurement};

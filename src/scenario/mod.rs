@@ -420,6 +420,32 @@ pub struct OutputSection {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schemars(range(min = 0, max = 1e6))]
     pub scene_rate_hz: Option<f64>,
+    /// Triggered records, as railway monitoring keeps them: the sampled streams (sensors,
+    /// previews, axle loads, the deflected shape, vehicle states, GNSS) are written only
+    /// from `pre_s` before each vehicle's first axle enters the bridge to `post_s` after
+    /// its last leaves (overlapping windows merge); events, vehicle and WIM records
+    /// always. A day of trains then writes only the passages. Needs every vehicle listed
+    /// (no `[traffic]`). Default: none (everything is written).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub trigger: Option<TriggerSpec>,
+}
+
+/// `output.trigger`: the window around each passage.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct TriggerSpec {
+    /// Kept before the first axle enters the bridge (s, 0 to 3600; default 10).
+    #[serde(default = "default_trigger_s")]
+    #[schemars(range(min = 0, max = 3600))]
+    pub pre_s: f64,
+    /// Kept after the last axle leaves it (s, 0 to 3600; default 10).
+    #[serde(default = "default_trigger_s")]
+    #[schemars(range(min = 0, max = 3600))]
+    pub post_s: f64,
+}
+
+fn default_trigger_s() -> f64 {
+    10.0
 }
 
 /// Default of `output.preview_rate_hz` in the block layout: the pass band reaches 10 Hz
@@ -456,6 +482,7 @@ impl Default for OutputSection {
             flush_every_s: None,
             preview_rate_hz: None,
             scene_rate_hz: None,
+            trigger: None,
         }
     }
 }

@@ -235,6 +235,7 @@ impl Scenario {
         }
         let steps = steps as u64;
         let scene = self.resolve_scene(&vehicles)?;
+        let trigger_windows = self.trigger_windows(&vehicles, dt_ns)?;
         Ok(Resolved {
             scenario: self.clone(),
             dt_ns,
@@ -252,9 +253,54 @@ impl Scenario {
             bridge_stride,
             flush_every_ns: (flush_every_s * 1e9).round() as u64,
             scene,
+            trigger_windows,
             source_toml: String::new(),
             git_revision: crate::base::build_info::run_revision(),
         })
+    }
+
+    /// `output.trigger`: a window from `pre_s` before each listed vehicle's first axle
+    /// enters the bridge to `post_s` after its last leaves, merged where they overlap.
+    fn trigger_windows(
+        &self,
+        vehicles: &[ResolvedVehicle],
+        dt_ns: u64,
+    ) -> Result<Vec<crate::record::TriggerWindow>> {
+        let Some(trigger) = &self.output.trigger else {
+            return Ok(Vec::new());
+        };
+        for (field, value) in [("pre_s", trigger.pre_s), ("post_s", trigger.post_s)] {
+            if !(0.0..=3600.0).contains(&value) {
+                return Err(Error::invalid(
+                    format!("output.trigger.{field}"),
+                    num(value),
+                    "must be between 0 and 3600 s",
+                ));
+            }
+        }
+        if self.traffic.is_some() {
+            return Err(Error::invalid(
+                "output.trigger",
+                "{ .. }",
+                "needs every vehicle listed: [traffic] vehicles arrive at random, so their \
+                 passages are not known before the run",
+            ));
+        }
+        let windows = vehicles
+            .iter()
+            .map(|v| {
+                let entry_s = (v.entry_step * dt_ns) as f64 * 1e-9;
+                let enters_s = entry_s + self.road.approach_m / v.speed_m_s;
+                let leaves_s =
+                    enters_s + (self.bridge.length_m() + v.dynamics.wheelbase_m()) / v.speed_m_s;
+                crate::record::TriggerWindow {
+                    start_ns: ((enters_s - trigger.pre_s).max(0.0) * 1e9).round() as u64,
+                    end_ns: ((leaves_s + trigger.post_s) * 1e9).round() as u64,
+                    label: format!("vehicle {} ({})", v.id, v.dynamics.name),
+                }
+            })
+            .collect();
+        Ok(crate::record::merged_windows(windows))
     }
 
     /// Station ids unique, models and limits valid, strips on the approach.

@@ -12,7 +12,7 @@ use crate::measurement::wim::WimStation;
 use crate::physics::bridge::{Girder, ModelSpec};
 use crate::physics::solver::NewmarkCoefficients;
 use crate::physics::vehicle::VehicleDynamics;
-use crate::record::SceneInfo;
+use crate::record::{SceneInfo, TriggerWindow};
 
 use super::{Scenario, SensorKind, SensorSpec};
 
@@ -131,6 +131,8 @@ pub struct Resolved {
     pub flush_every_ns: u64,
     /// The 3D scene on `/scene`, `None` when `output.scene_rate_hz` is 0.
     pub scene: Option<SceneInfo>,
+    /// `output.trigger`'s windows, merged; empty: everything is written.
+    pub trigger_windows: Vec<TriggerWindow>,
     /// The scenario as the user wrote it (stored in the output); empty for a scenario
     /// built in code. Set by the caller that read the file.
     pub source_toml: String,

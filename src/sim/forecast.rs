@@ -315,13 +315,61 @@ pub fn forecast(resolved: &Resolved, prepared: &Prepared) -> Result<RecordForeca
         None => Vec::new(),
     };
 
-    Ok(RecordForecast {
+    let mut forecast = RecordForecast {
         duration_ns,
         sensors,
         records,
         scene_axles,
         vehicles: vehicle_count,
-    })
+    };
+    if !resolved.trigger_windows.is_empty() {
+        triggered(&mut forecast, &resolved.trigger_windows);
+    }
+    Ok(forecast)
+}
+
+/// `output.trigger`: the sampled streams only within the windows (their share of the
+/// run, the samples spread evenly over it), one event opening each window. The share
+/// makes the sensor counts approximate (within a sample per window and stream).
+fn triggered(forecast: &mut RecordForecast, windows: &[crate::record::TriggerWindow]) {
+    let duration_ns = forecast.duration_ns;
+    let covered_ns: u64 = windows
+        .iter()
+        .map(|w| {
+            w.end_ns
+                .min(duration_ns)
+                .saturating_sub(w.start_ns.min(duration_ns))
+        })
+        .sum();
+    let share = covered_ns as f64 / duration_ns.max(1) as f64;
+    let scaled = |n: u64| (n as f64 * share).round() as u64;
+    for s in &mut forecast.sensors {
+        s.samples = scaled(s.samples);
+        s.preview_samples = scaled(s.preview_samples);
+        s.lost_samples *= share;
+        s.rest_samples = s.rest_samples.min(s.samples as f64);
+    }
+    for r in &mut forecast.records {
+        if matches!(
+            r.record,
+            Record::AxleLoads { .. }
+                | Record::BridgeShape { .. }
+                | Record::VehicleState { .. }
+                | Record::Gnss { .. }
+        ) {
+            r.count *= share;
+        }
+    }
+    let opened = windows.iter().filter(|w| w.start_ns <= duration_ns).count();
+    forecast.records.push(ForecastRecords {
+        record: Record::Event {
+            t_ns: 0,
+            level: EventLevel::Info,
+            text: "triggered record 1 of 10: 0.000 s to 100.000 s (vehicle 1 (train/ice3))".into(),
+        },
+        count: opened as f64,
+        at_rest: false,
+    });
 }
 
 /// Seconds of `[0, duration_s]` during which vehicle `p`'s front axle is between

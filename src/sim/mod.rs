@@ -167,6 +167,13 @@ pub fn run_controlled(
     recorder: &mut dyn Recorder,
     control: &mut Control,
 ) -> Result<RunSummary> {
+    let mut gate;
+    let recorder: &mut dyn Recorder = if resolved.trigger_windows.is_empty() {
+        recorder
+    } else {
+        gate = crate::record::Triggered::new(recorder, &resolved.trigger_windows);
+        &mut gate
+    };
     recorder.begin(&manifest(resolved, prepared)?)?;
     let s = &resolved.scenario;
     let model = &prepared.model;

@@ -30,6 +30,10 @@ struct VehicleTrack {
     wim: Vec<Vec<Option<(u64, f64)>>>,
     wim_done: Vec<bool>,
     max_force_on_bridge_n: Vec<f64>,
+    /// Smallest wheel force over its static load on the bridge, and the axles that lost
+    /// contact there (a train's passage event reports them: wheel unloading).
+    min_wheel_ratio: f64,
+    lifted_axles: usize,
     /// Per axle: (count, sum, sum of squares) of the tyre force while on the bridge.
     force_moments: Vec<(u64, f64, f64)>,
     losing_contact: Vec<bool>,
@@ -223,12 +227,19 @@ impl Tracker {
                 if (0.0..=self.span_m).contains(&xj) {
                     let f = v.contact_force_n[j];
                     track.max_force_on_bridge_n[j] = track.max_force_on_bridge_n[j].max(f);
+                    let static_n = v.dynamics.axles[j].static_load_n;
+                    if static_n > 0.0 {
+                        track.min_wheel_ratio = track.min_wheel_ratio.min(f / static_n);
+                    }
                     let m = &mut track.force_moments[j];
                     *m = (m.0 + 1, m.1 + f, m.2 + f * f);
                 }
                 let losing = !v.in_contact[j] || v.contact_force_n[j] < 0.0;
                 if losing != track.losing_contact[j] {
                     track.losing_contact[j] = losing;
+                    if losing && (0.0..=self.span_m).contains(&xj) {
+                        track.lifted_axles += 1;
+                    }
                     let what = if losing {
                         "loses contact"
                     } else {
@@ -248,11 +259,7 @@ impl Tracker {
             }
             if crossed(axles - 1, exit_at) {
                 track.exit_ns = Some(t_ns);
-                queue.push_back(event(
-                    t_ns,
-                    EventLevel::Info,
-                    format!("vehicle {} leaves the bridge", v.id),
-                ));
+                queue.push_back(event(t_ns, EventLevel::Info, leave_text(v, track)));
                 queue.push_back(Record::Vehicle {
                     t_ns,
                     vehicle: vehicle_record(v, track),
@@ -376,9 +383,32 @@ fn new_track(lane: u32, speed_m_s: f64, axles: usize, stations: usize) -> Vehicl
         wim: vec![vec![None; axles]; stations],
         wim_done: vec![false; stations],
         max_force_on_bridge_n: vec![0.0; axles],
+        min_wheel_ratio: f64::INFINITY,
+        lifted_axles: 0,
         force_moments: vec![(0, 0.0, 0.0); axles],
         losing_contact: vec![false; axles],
     }
+}
+
+/// "vehicle 3 leaves the bridge"; for a train also the passage's wheel unloading
+/// (the smallest wheel load over its static one, and the wheels lifted off: a
+/// derailment-risk indicator).
+fn leave_text(v: &crate::physics::solver::CoupledVehicle, track: &VehicleTrack) -> String {
+    let text = format!("vehicle {} leaves the bridge", v.id);
+    if !v.dynamics.name.starts_with("train") {
+        return text;
+    }
+    let lifted = match track.lifted_axles {
+        0 => "no wheel lifted off".to_string(),
+        n => format!("wheels lost contact {n} times"),
+    };
+    format!(
+        "{text} ({}, {} wheelsets, {:.0} km/h): smallest wheel load {:.3} x static, {lifted}",
+        v.dynamics.name,
+        v.dynamics.axles.len(),
+        3.6 * v.speed_m_s,
+        track.min_wheel_ratio
+    )
 }
 
 fn event(t_ns: u64, level: EventLevel, text: String) -> Record {

@@ -54,6 +54,11 @@ use sha2::{Digest, Sha256};
 /// the scenario's own duration; SHA-256 of the output).
 const PINNED: &[(&str, f64, &str)] = &[
     (
+        "railway_bridge",
+        20.0,
+        "374db30cb34434ad5d07b0fd5293b6e282e2f481eccec9576b90e4d9dd3feb77",
+    ),
+    (
         "",
         0.0,
         "bdbe2816742cb617e9f82ae9fc960fa59217d680d61749526b2f3536c27ac23f",

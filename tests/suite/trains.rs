@@ -219,3 +219,87 @@ fn an_articulated_rake_is_one_block_and_matches_the_direct_solver() {
     assert_eq!(blocks, 3, "power car, articulated rake, power car");
     assert!(du < 1e-8 && df < 1e-8, "deflection {du:e}, force {df:e}");
 }
+
+/// Two trains 60 s apart over a 30 m span, triggered records 2 s before and after each.
+const TRIGGERED_RUN: &str = r#"
+seed = 3
+duration_s = 90.0
+[bridge]
+span_m = 30.0
+flexural_rigidity_n_m2 = 5.629e10
+mass_per_length_kg_m = 12000.0
+model = { kind = "finite_element", elements = 20 }
+[solver]
+dt_s = 0.001
+contact = "unilateral"
+[road]
+profile = { kind = "track", class = "german_low" }
+approach_m = 40.0
+exit_m = 20.0
+[output]
+trigger = { pre_s = 2.0, post_s = 2.0 }
+[[vehicles]]
+id = 7
+model = { kind = "train", preset = "ice3" }
+speed_m_s = 40.0
+[[vehicles]]
+id = 8
+model = { kind = "train", cars = [{ preset = "manchester_benchmark", count = 3 }] }
+speed_m_s = 30.0
+entry_time_s = 60.0
+[[sensors]]
+id = "A1"
+kind = "accelerometer"
+position_m = 15.0
+rate_hz = 100.0
+"#;
+
+#[test]
+fn triggered_records_keep_only_the_passages_and_report_each_train() {
+    use bridgetwin::record::Record;
+    let records = crate::common::records_of(TRIGGERED_RUN);
+    // Train 7 (first to last wheelset 200.67 - 2 x 3.51 = 193.65 m): front axle on the
+    // bridge at 40 / 40 = 1 s, last axle off at 1 + (30 + 193.65) / 40 = 6.59 s; train 8
+    // (3 x 25 - 2 x 1.72 = 71.56 m) from 60 + 40 / 30 = 61.33 s to 61.33 + 101.56 / 30 =
+    // 64.72 s. Windows 2 s either side: [0, 8.59] and [59.33, 66.72] s.
+    let windows = [(0.0, 8.592), (59.332, 66.719)];
+    let inside = |t: f64| windows.iter().any(|&(a, b)| t >= a - 1e-3 && t <= b + 1e-3);
+    let mut samples = 0;
+    for r in &records {
+        if let Record::Sensor { t_ns, .. } | Record::AxleLoads { t_ns, .. } = r {
+            let t = *t_ns as f64 * 1e-9;
+            assert!(inside(t), "a sampled record at {t} s, outside the windows");
+            samples += 1;
+        }
+    }
+    // 100 Hz and the axle loads at 200 Hz over the 16 s of windows.
+    assert!(samples > 4000, "{samples}");
+    let events: Vec<String> = records
+        .iter()
+        .filter_map(|r| match r {
+            Record::Event { text, .. } => Some(text.clone()),
+            _ => None,
+        })
+        .collect();
+    let opened: Vec<&String> = events
+        .iter()
+        .filter(|e| e.contains("triggered record"))
+        .collect();
+    assert_eq!(opened.len(), 2, "{events:?}");
+    assert!(
+        opened[0].contains("of 2") && opened[1].contains("vehicle 8 (train)"),
+        "{opened:?}"
+    );
+    let left: Vec<&String> = events
+        .iter()
+        .filter(|e| e.contains("leaves the bridge"))
+        .collect();
+    assert_eq!(left.len(), 2, "{events:?}");
+    assert!(
+        left[0].starts_with("vehicle 7 leaves the bridge (train/ice3, 32 wheelsets, 144 km/h)")
+            && left[0].contains("smallest wheel load 0.")
+            && left[0].contains("no wheel lifted off"),
+        "{}",
+        left[0]
+    );
+}

@@ -101,6 +101,20 @@ pub(super) fn railway_cases() -> Vec<Case> {
             &["road.profile.features.0.depth_m = -0.002"],
         ),
         Case::edit(
+            "trigger with generated traffic",
+            &[
+                Set("output.trigger", "{ pre_s = 5.0 }"),
+                Set("traffic", "{ lanes = [{ flow_per_hour = 100.0 }] }"),
+                Set("duration_s", "60.0"),
+            ],
+            &["output.trigger", "needs every vehicle listed"],
+        ),
+        Case::edit(
+            "trigger window longer than an hour",
+            &[Set("output.trigger", "{ post_s = 4000.0 }")],
+            &["output.trigger.post_s = 4000", "between 0 and 3600 s"],
+        ),
+        Case::edit(
             "timetable entry after 30 days",
             &[
                 Set(

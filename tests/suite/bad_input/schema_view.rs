@@ -53,6 +53,10 @@ pub const SCHEMA_ACCEPTS: &[(&str, &str)] = &[
         "which keys are needed depends on whether a preset gives them",
     ),
     (
+        "trigger with generated traffic",
+        "the trigger needs the absence of another key ([traffic])",
+    ),
+    (
         "overlapping axles",
         "the bound is the car's wheelbase (half of it)",
     ),
