@@ -279,6 +279,13 @@ pub struct RoadSection {
     #[serde(default = "default_exit")]
     #[schemars(range(min = 0, max = resolve::MAX_ROAD_M))]
     pub exit_m: f64,
+    /// Sleeper spacing of a ballasted railway track (m, 0.3 to 1.0): each wheel load then
+    /// reaches the deck over three sleepers, a quarter at x - a, half at x, a quarter at
+    /// x + a (EN 1991-2 6.3.6.1), and the wheel rides on the same weighted deflection.
+    /// Default: none (each tyre acts at its contact point).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(range(min = 0.3, max = 1.0))]
+    pub sleeper_spacing_m: Option<f64>,
 }
 
 fn default_approach() -> f64 {
@@ -294,6 +301,7 @@ impl Default for RoadSection {
             profile: RoadProfileSpec::default(),
             approach_m: default_approach(),
             exit_m: default_exit(),
+            sleeper_spacing_m: None,
         }
     }
 }

@@ -120,6 +120,15 @@ impl Scenario {
         let newmark = NewmarkCoefficients::new(step_s, self.solver.newmark)?;
         self.road.profile.validate("road.profile")?;
         require_positive("road.approach_m", self.road.approach_m)?;
+        if let Some(a) = self.road.sleeper_spacing_m {
+            if !(0.3..=1.0).contains(&a) {
+                return Err(Error::invalid(
+                    "road.sleeper_spacing_m",
+                    num(a),
+                    "must be between 0.3 and 1.0 m (a railway track's sleepers)",
+                ));
+            }
+        }
         require_non_negative("road.exit_m", self.road.exit_m)?;
         for (field, value) in [
             ("road.approach_m", self.road.approach_m),

@@ -185,6 +185,7 @@ pub fn run_controlled(
         solve_mode(&s.bridge.model),
         s.solver.contact,
     )?;
+    solver.sleeper_spacing_m = s.road.sleeper_spacing_m;
     solver.retire_after_m = s.road.exit_m;
     for v in &resolved.vehicles {
         // Each direction has its own approach: the left one towards +x, the right one

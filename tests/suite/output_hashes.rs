@@ -56,7 +56,7 @@ const PINNED: &[(&str, f64, &str)] = &[
     (
         "railway_bridge",
         20.0,
-        "374db30cb34434ad5d07b0fd5293b6e282e2f481eccec9576b90e4d9dd3feb77",
+        "50b6c8d4fdf5911de8fb25aee92ddb220d04b6c4443eaaac4f6b28a5652f55b3",
     ),
     (
         "",

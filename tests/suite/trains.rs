@@ -303,3 +303,91 @@ fn triggered_records_keep_only_the_passages_and_report_each_train() {
         left[0]
     );
 }
+
+#[test]
+fn over_three_sleepers_each_axle_is_three_loads_of_a_quarter_a_half_and_a_quarter() {
+    // HSLM-A1 as moving forces over the 15 m span with the load spread over sleepers
+    // 0.6 m apart, against Fryba's closed form summed over three loads per axle (P/4 at
+    // a behind, P/2 at, P/4 at a ahead of the wheel): the same tolerance as the verify
+    // row of the point loads (2e-3 of the peak); without the spread the reference is off.
+    use bridgetwin::studies::analytic::{MovingLoadTrain, SimplySupportedBeam};
+    use bridgetwin::studies::hslm::StudyBridge;
+    let bridge = StudyBridge::short_span();
+    let model = BridgeModel::build(
+        &bridge.beam,
+        &ModelSpec::FiniteElement { elements: 40 },
+        0.0,
+    )
+    .unwrap();
+    let road = bridgetwin::physics::road::LevelRoad;
+    let coef = NewmarkCoefficients::new(5e-4, NewmarkParams::default()).unwrap();
+    let a = 0.6;
+    let forces = train("hslm_a1", Representation::MovingForces);
+    let v = 200.0 / 3.6;
+    let mut solver = CoupledSolver::new(
+        &model,
+        &road,
+        coef,
+        SolveMode::Prefactored(Storage::Sparse),
+        ContactLaw::Full,
+    )
+    .unwrap();
+    solver.sleeper_spacing_m = Some(a);
+    // The front wheel starts a before the span so that its leading quarter enters at 0.
+    solver.add_vehicle(CoupledVehicle::new(1, forces.clone(), v, -a, 0));
+    let spread = MovingLoadTrain {
+        loads: forces
+            .axles
+            .iter()
+            .flat_map(|x| {
+                let p = x.static_load_n;
+                [
+                    (x.offset_m, 0.25 * p),
+                    (x.offset_m + a, 0.5 * p),
+                    (x.offset_m + 2.0 * a, 0.25 * p),
+                ]
+            })
+            .collect(),
+    };
+    let point = MovingLoadTrain {
+        loads: forces
+            .axles
+            .iter()
+            .map(|x| (x.offset_m + a, x.static_load_n))
+            .collect(),
+    };
+    let beam = SimplySupportedBeam::new(
+        15.0,
+        bridge.beam.flexural_rigidity_n_m2,
+        bridge.beam.mass_per_length_kg_m,
+    )
+    .unwrap();
+    let none = bridgetwin::studies::analytic::ModalDamping::None;
+    let reference =
+        bridgetwin::studies::analytic::MovingForceSolution::for_train(beam, &spread, v, none, 100)
+            .unwrap();
+    let unspread =
+        bridgetwin::studies::analytic::MovingForceSolution::for_train(beam, &point, v, none, 100)
+            .unwrap();
+    let mut op = SparseVec::default();
+    let (mut err, mut err_point, mut peak) = (0.0f64, 0.0f64, 0.0f64);
+    let steps = ((15.0 + forces.wheelbase_m() + 2.0 * a) / v / coef.dt_s) as usize;
+    for _ in 0..steps {
+        solver.advance().unwrap();
+        let t = solver.time_s();
+        let u = -solver.bridge_response(7.5, PointQuantity::Deflection, 0, &mut op);
+        err = err.max((u - reference.deflection_m(7.5, t)).abs());
+        err_point = err_point.max((u - unspread.deflection_m(7.5, t)).abs());
+        peak = peak.max(u.abs());
+    }
+    assert!(
+        err / peak < 2e-3,
+        "spread vs three loads per axle: {:e}",
+        err / peak
+    );
+    assert!(
+        err_point / peak > 2.0 * err / peak,
+        "point loads would pass too: {:e}",
+        err_point / peak
+    );
+}

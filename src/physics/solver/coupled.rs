@@ -46,6 +46,31 @@ pub enum ContactLaw {
     Unilateral,
 }
 
+/// The point operator of a wheel at `x_m`, or with `sleeper_spacing_m` the 1/4, 1/2, 1/4
+/// sum over the sleepers at x - a, x, x + a (entries may repeat: they add up).
+fn load_operator(
+    model: &BridgeModel,
+    x_m: f64,
+    sleeper_spacing_m: Option<f64>,
+    quantity: PointQuantity,
+    out: &mut SparseVec,
+    scratch: &mut SparseVec,
+) {
+    model.point_operator(x_m, quantity, out);
+    let Some(a) = sleeper_spacing_m else {
+        return;
+    };
+    for v in &mut out.val {
+        *v *= 0.5;
+    }
+    for x in [x_m - a, x_m + a] {
+        model.point_operator(x, quantity, scratch);
+        for (&i, &v) in scratch.idx.iter().zip(&scratch.val) {
+            out.push(i, 0.25 * v);
+        }
+    }
+}
+
 /// Per-contact data of one step.
 struct Contact {
     vehicle: usize,
@@ -77,6 +102,12 @@ pub struct CoupledSolver<'a> {
     pub step: u64,
     /// A vehicle is retired once its last axle is this far past the bridge end (m).
     pub retire_after_m: f64,
+    /// Sleeper spacing `a` (m) when each wheel load reaches the deck over three sleepers
+    /// (1/4, 1/2, 1/4 at x - a, x, x + a; EN 1991-2 6.3.6.1): the contact's point
+    /// operators become that weighted sum, so the wheel also rides on the weighted
+    /// deflection (the coupling stays symmetric). `None`: at the contact point.
+    pub sleeper_spacing_m: Option<f64>,
+    spread_scratch: SparseVec,
     road: &'a dyn RoadSurface,
     contacts: Vec<Contact>,
     rhs: DVector<f64>,
@@ -120,6 +151,8 @@ impl<'a> CoupledSolver<'a> {
             external_load: DVector::zeros(n),
             step: 0,
             retire_after_m: 50.0,
+            sleeper_spacing_m: None,
+            spread_scratch: SparseVec::with_capacity(8),
             road,
             contacts: Vec::new(),
             rhs: DVector::zeros(n),
@@ -224,11 +257,28 @@ impl<'a> CoupledSolver<'a> {
                 c.vehicle = vi;
                 c.axle = j;
                 c.x_m = v.axle_x_m(j, next, dt);
-                c.on_span = self.model.on_girder(c.x_m);
-                self.model
-                    .point_operator(c.x_m, PointQuantity::Deflection, &mut c.h);
-                self.model
-                    .point_operator(c.x_m, PointQuantity::Slope, &mut c.h_slope);
+                let spread = self.sleeper_spacing_m;
+                let reach = spread.unwrap_or(0.0);
+                c.on_span = [c.x_m - reach, c.x_m, c.x_m + reach]
+                    .into_iter()
+                    .any(|x| self.model.on_girder(x));
+                let scratch = &mut self.spread_scratch;
+                load_operator(
+                    &self.model,
+                    c.x_m,
+                    spread,
+                    PointQuantity::Deflection,
+                    &mut c.h,
+                    scratch,
+                );
+                load_operator(
+                    &self.model,
+                    c.x_m,
+                    spread,
+                    PointQuantity::Slope,
+                    &mut c.h_slope,
+                    scratch,
+                );
                 c.active = true;
                 count += 1;
             }

@@ -115,6 +115,11 @@ pub(super) fn railway_cases() -> Vec<Case> {
             &["output.trigger.post_s = 4000", "between 0 and 3600 s"],
         ),
         Case::edit(
+            "sleeper spacing out of range",
+            &[Set("road.sleeper_spacing_m", "0.1")],
+            &["road.sleeper_spacing_m = 0.1", "between 0.3 and 1.0 m"],
+        ),
+        Case::edit(
             "timetable entry after 30 days",
             &[
                 Set(
