@@ -148,6 +148,16 @@ fn manchester_vehicle_modes_match_hand_estimates() {
     );
 }
 
+/// The coupled (low-rank) solver with sparse storage and full contact.
+fn low_rank_solver<'a>(
+    model: &'a BridgeModel,
+    road: &'a dyn bridgetwin::physics::road::RoadSurface,
+    coef: NewmarkCoefficients,
+) -> CoupledSolver<'a> {
+    let mode = SolveMode::Prefactored(Storage::Sparse);
+    CoupledSolver::new(model, road, coef, mode, ContactLaw::Full).unwrap()
+}
+
 /// Runs a train across the paper's bridge with both solvers and returns the largest
 /// differences of midspan deflection and wheel force relative to their peaks, and the
 /// number of blocks the coupled solver split the train into.
@@ -169,14 +179,7 @@ fn split_vs_direct(name: &str) -> (f64, f64, usize) {
     let coef = NewmarkCoefficients::new(2e-3, NewmarkParams::default()).unwrap();
     let (start, speed) = (-10.0, 40.0);
     let dynamics = train(name, Representation::Vehicles);
-    let mut split = CoupledSolver::new(
-        &model,
-        &road,
-        coef,
-        SolveMode::Prefactored(Storage::Sparse),
-        ContactLaw::Full,
-    )
-    .unwrap();
+    let mut split = low_rank_solver(&model, &road, coef);
     split.add_vehicle(CoupledVehicle::new(1, dynamics.clone(), speed, start, 0));
     let mut direct = DirectSolver::new(&model, &road, coef).unwrap();
     direct.add_vehicle(CoupledVehicle::new(1, dynamics.clone(), speed, start, 0));
@@ -324,14 +327,7 @@ fn over_three_sleepers_each_axle_is_three_loads_of_a_quarter_a_half_and_a_quarte
     let a = 0.6;
     let forces = train("hslm_a1", Representation::MovingForces);
     let v = 200.0 / 3.6;
-    let mut solver = CoupledSolver::new(
-        &model,
-        &road,
-        coef,
-        SolveMode::Prefactored(Storage::Sparse),
-        ContactLaw::Full,
-    )
-    .unwrap();
+    let mut solver = low_rank_solver(&model, &road, coef);
     solver.sleeper_spacing_m = Some(a);
     // The front wheel starts a before the span so that its leading quarter enters at 0.
     solver.add_vehicle(CoupledVehicle::new(1, forces.clone(), v, -a, 0));
