@@ -10,6 +10,7 @@
 
 mod csv;
 mod curve;
+mod features;
 mod iso8608;
 mod profile;
 mod spec;

@@ -228,15 +228,7 @@ pub fn moving_force() -> Result<Vec<CheckRow>> {
                     .iter()
                     .map(|&t| reference.deflection_m(mid, t))
                     .collect();
-                let peak_ref = exact.iter().fold(0.0f64, |a, &b| a.max(b.abs()));
-                let peak_num = numerical.iter().fold(0.0f64, |a, &b| a.max(b.abs()));
-                let rms = (numerical
-                    .iter()
-                    .zip(&exact)
-                    .map(|(a, b)| (a - b).powi(2))
-                    .sum::<f64>()
-                    / times.len() as f64)
-                    .sqrt();
+                let (peak_ref, peak_num, rms) = super::history_errors(&numerical, &exact);
                 // Tolerances: the time step (dt = 1 ms, w1 dt = 0.024) shifts the phase of
                 // mode 1 by (w dt)^2/12 = 5e-5 per radian (3e-4 rad over 1.5 s), and the
                 // force jumps onto a node at a discrete time (O(v dt / L)); 50 masses or 20

@@ -89,6 +89,20 @@ fn history_at(
     Ok((times, deflection))
 }
 
+/// `(reference peak, numerical peak, RMS of the difference)` of two histories on the
+/// same times: what the moving-force rows compare.
+pub fn history_errors(numerical: &[f64], exact: &[f64]) -> (f64, f64, f64) {
+    let peak = |h: &[f64]| h.iter().fold(0.0f64, |a, &b| a.max(b.abs()));
+    let rms = (numerical
+        .iter()
+        .zip(exact)
+        .map(|(a, b)| (a - b).powi(2))
+        .sum::<f64>()
+        / numerical.len() as f64)
+        .sqrt();
+    (peak(exact), peak(numerical), rms)
+}
+
 /// The manufactured solution `w(x, t) = sum_k A_k sin(k pi x / L) g_k(t)` with three
 /// modes and three forcing frequencies; every g_k starts at rest (g(0) = g'(0) = 0).
 #[derive(Debug, Clone)]

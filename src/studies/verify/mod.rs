@@ -21,8 +21,8 @@ pub use beam_checks::{
 };
 pub use girder_checks::{girder_frequencies, girder_moving_force, girder_statics};
 pub use harness::{
-    manufactured_history, moving_force_history, moving_force_history_at, train_history,
-    ManufacturedCase, MovingForceCase,
+    history_errors, manufactured_history, moving_force_history, moving_force_history_at,
+    train_history, ManufacturedCase, MovingForceCase,
 };
 pub use support_checks::girder_supports;
 pub use track_checks::track_profiles;

@@ -64,15 +64,7 @@ pub fn train_moving_forces() -> Result<Vec<CheckRow>> {
             .iter()
             .map(|&t| reference.deflection_m(mid, t))
             .collect();
-        let peak_ref = exact.iter().fold(0.0f64, |a, &b| a.max(b.abs()));
-        let peak_num = numerical.iter().fold(0.0f64, |a, &b| a.max(b.abs()));
-        let rms = (numerical
-            .iter()
-            .zip(&exact)
-            .map(|(a, b)| (a - b).powi(2))
-            .sum::<f64>()
-            / times.len() as f64)
-            .sqrt();
+        let (peak_ref, peak_num, rms) = super::history_errors(&numerical, &exact);
         // Undamped, 5.6-8.6 s of passage: Newmark's period error (w1 dt)^2 / 12 = 2e-5
         // accumulates to 0.02-0.03 rad of phase on mode 1 over 28-43 cycles, which the
         // free vibration left by 50 loads carries (a fraction of the peak, more near
