@@ -63,6 +63,9 @@ pub const OVERLAP: f64 = 0.15;
 const BURST_TARGET_S: f64 = 0.03;
 /// Bursts stop growing once the calibration has taken this long.
 const CALIBRATION_BUDGET_S: f64 = 0.15;
+/// ... or this share of the run it times (as projected from the bursts so far): a run
+/// of a fraction of a second is not worth a tenth of a second of calibration.
+const CALIBRATION_SHARE: f64 = 0.05;
 /// The first burst's steps.
 const FIRST_BURST_STEPS: u64 = 200;
 
@@ -136,9 +139,17 @@ fn burst(resolved: &Resolved, prepared: &Prepared, steps: u64) -> Result<Burst> 
     })
 }
 
+/// The calibration's budget after a burst `b` of `steps` of a `run_steps` run: the
+/// smaller of [`CALIBRATION_BUDGET_S`] and [`CALIBRATION_SHARE`] of the run's projected
+/// setup and loop.
+fn budget_s(b: &Burst, steps: u64, run_steps: u64) -> f64 {
+    let projected_s = b.setup_s + b.loop_s * run_steps as f64 / steps.max(1) as f64;
+    CALIBRATION_BUDGET_S.min(CALIBRATION_SHARE * projected_s)
+}
+
 /// Times bursts of the run's own loop (growing until one lasts [`BURST_TARGET_S`], a
 /// quarter of the run at most, then once more at that size, the faster kept; all within
-/// [`CALIBRATION_BUDGET_S`]) and extrapolates to the run's `steps` and `messages`.
+/// [`budget_s`]) and extrapolates to the run's `steps` and `messages`.
 pub fn time_run(resolved: &Resolved, prepared: &Prepared, messages: u64) -> Result<Timing> {
     let started = Instant::now();
     let longest = (resolved.steps / 4).max(1);
@@ -146,13 +157,14 @@ pub fn time_run(resolved: &Resolved, prepared: &Prepared, messages: u64) -> Resu
     let measured = loop {
         let b = burst(resolved, prepared, steps)?;
         let spent_s = started.elapsed().as_secs_f64();
+        let budget_s = budget_s(&b, steps, resolved.steps);
         let grow = (BURST_TARGET_S / b.loop_s.max(1e-6))
             .ceil()
             .clamp(2.0, 16.0) as u64;
         let next = (steps * grow).min(longest);
         // The next burst costs its setup and about `grow` times this loop.
         let next_s = b.setup_s + b.loop_s * (next as f64 / steps as f64);
-        if b.loop_s >= BURST_TARGET_S || next == steps || spent_s + next_s > CALIBRATION_BUDGET_S {
+        if b.loop_s >= BURST_TARGET_S || next == steps || spent_s + next_s > budget_s {
             break (steps, b);
         }
         steps = next;
@@ -160,7 +172,8 @@ pub fn time_run(resolved: &Resolved, prepared: &Prepared, messages: u64) -> Resu
     let (burst_steps, mut b) = measured;
     // Once more at the same size when the budget allows, keeping the faster: a moment of
     // load from another process should not stand for the whole run.
-    if started.elapsed().as_secs_f64() + b.setup_s + b.loop_s <= CALIBRATION_BUDGET_S {
+    let budget_s = budget_s(&b, burst_steps, resolved.steps);
+    if started.elapsed().as_secs_f64() + b.setup_s + b.loop_s <= budget_s {
         let again = burst(resolved, prepared, burst_steps)?;
         if again.loop_s < b.loop_s {
             b = again;

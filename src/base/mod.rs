@@ -3,6 +3,7 @@
 //! enums for serde, schema bounds for the scenario's JSON Schema.
 
 pub mod build_info;
+pub mod dot;
 pub mod random;
 pub mod rate;
 pub mod schema;

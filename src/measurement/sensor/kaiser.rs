@@ -21,6 +21,7 @@
 //! linearly. Every phase is normalised to unit sum, so DC passes exactly, and the
 //! interpolated weights (a convex combination of two rows) keep unit sum.
 
+use crate::base::dot::dot;
 use std::f64::consts::PI;
 use std::sync::{Arc, Mutex, OnceLock};
 
@@ -171,11 +172,18 @@ impl PolyphaseKernel {
         let kaiser = Kaiser::new(design);
         let (half_width, phases) = Self::planned_size(design);
         let width = 2 * half_width + 1;
+        // Every weight sits at x = frac + L - j = i / P for an integer i with |i| <= (L + 1) P,
+        // and h is even: each distinct |x| is evaluated once (half the table's Bessel and
+        // sine evaluations). With P a power of two both forms of x are exact, so the
+        // weights are the same bits as evaluating each entry.
+        let grid: Vec<f64> = (0..=(half_width + 1) * phases)
+            .map(|i| kaiser.eval(i as f64 / phases as f64))
+            .collect();
         let mut table = vec![0.0; (phases + 1) * width];
         for (p, row) in table.chunks_exact_mut(width).enumerate() {
-            let frac = p as f64 / phases as f64;
             for (j, w) in row.iter_mut().enumerate() {
-                *w = kaiser.eval(frac + half_width as f64 - j as f64);
+                let i = p as i64 + (half_width as i64 - j as i64) * phases as i64;
+                *w = grid[i.unsigned_abs() as usize];
             }
             let sum: f64 = row.iter().sum();
             row.iter_mut().for_each(|w| *w /= sum);
@@ -229,20 +237,6 @@ impl PolyphaseKernel {
         let hi = &self.table[(p + 1) * width..(p + 2) * width];
         (1.0 - mu) * y_lo + mu * dot(hi, samples)
     }
-}
-
-/// Dot product with four partial sums (lets the compiler use SIMD lanes).
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    let mut acc = [0.0; 4];
-    let (a4, a_rest) = a.split_at(a.len() / 4 * 4);
-    let (b4, b_rest) = b.split_at(a4.len());
-    for (ca, cb) in a4.chunks_exact(4).zip(b4.chunks_exact(4)) {
-        for ((s, x), y) in acc.iter_mut().zip(ca).zip(cb) {
-            *s += x * y;
-        }
-    }
-    let tail: f64 = a_rest.iter().zip(b_rest).map(|(x, y)| x * y).sum();
-    (acc[0] + acc[1]) + (acc[2] + acc[3]) + tail
 }
 
 #[cfg(test)]

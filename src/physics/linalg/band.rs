@@ -12,6 +12,7 @@
 //! second copy of the factor stored by columns, so that it too runs forward through
 //! memory.
 
+use crate::base::dot::dot;
 use nalgebra::DMatrix;
 
 /// Half-bandwidth of a square matrix: the largest `|i - j|` with a nonzero entry.
@@ -226,25 +227,6 @@ impl BandMatrix {
         }
         self.mul_add_rows(alpha, x, y, n - b..n);
     }
-}
-
-/// Dot product with four independent partial sums: a single running sum would make every
-/// term wait for the previous addition.
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    let mut partial = [0.0; 4];
-    let (a4, b4) = (a.chunks_exact(4), b.chunks_exact(4));
-    let tail: f64 = a4
-        .remainder()
-        .iter()
-        .zip(b4.remainder())
-        .map(|(x, y)| x * y)
-        .sum();
-    for (ca, cb) in a4.zip(b4) {
-        for k in 0..4 {
-            partial[k] += ca[k] * cb[k];
-        }
-    }
-    (partial[0] + partial[1]) + (partial[2] + partial[3]) + tail
 }
 
 /// The Cholesky factor `L` of a symmetric positive definite band matrix, stored for the

@@ -39,6 +39,9 @@ pub struct RoadProfile {
     sampled: bool,
     band_rms_m: Option<f64>,
     description: String,
+    /// `to_csv`, written once: every run and every burst of the estimate puts it in its
+    /// manifest, and a sampled kilometre is tens of thousands of formatted rows.
+    csv: std::sync::OnceLock<String>,
 }
 
 impl RoadProfile {
@@ -65,7 +68,9 @@ impl RoadProfile {
                 format!("must be greater than x_start_m = {x_start_m}"),
             ));
         }
-        let range = format!("over [{x_start_m}, {x_end_m}] m");
+        // Millimetres: the ends are sums like -(approach + wheelbase + 5) whose shortest
+        // decimal can carry binary noise (-448.61999999999995).
+        let range = format!("over [{x_start_m:.3}, {x_end_m:.3}] m");
         match spec {
             RoadProfileSpec::Smooth => Ok(Self::flat(
                 x_start_m,
@@ -139,6 +144,7 @@ impl RoadProfile {
                     sampled: true,
                     band_rms_m: Some(rms_m),
                     description: text,
+                    csv: Default::default(),
                 })
             }
             RoadProfileSpec::Iso8608 {
@@ -206,6 +212,7 @@ impl RoadProfile {
                     sampled: true,
                     band_rms_m: Some(rms_m),
                     description: text,
+                    csv: Default::default(),
                 })
             }
         }
@@ -218,6 +225,7 @@ impl RoadProfile {
             sampled: false,
             band_rms_m: None,
             description: text,
+            csv: Default::default(),
         }
     }
 
@@ -272,6 +280,7 @@ impl RoadProfile {
             sampled: true,
             band_rms_m: None,
             description,
+            csv: Default::default(),
         }
     }
 
@@ -290,7 +299,11 @@ impl RoadProfile {
     pub fn elevation_and_slope(&self, x_m: f64) -> (f64, f64) {
         let (lo, hi) = self.x_range_m();
         let xc = x_m.clamp(lo, hi);
-        let (mut z, mut s) = self.base.evaluate(xc);
+        // A flat base is zero everywhere: no knot search under every wheel every step.
+        let (mut z, mut s) = match self.sampled {
+            true => self.base.evaluate(xc),
+            false => (0.0, 0.0),
+        };
         for f in &self.features {
             let (fz, fs) = f.evaluate(xc);
             z += fz;
@@ -314,8 +327,13 @@ impl RoadProfile {
     }
 
     /// The profile's sample points `(x_m, elevation_m)`: the synthesized or measured
-    /// samples (shapes added), or, for a flat base, a uniform grid of at most 0.05 m.
+    /// samples (shapes added), or, for a flat base, a uniform grid of at most 0.05 m; a
+    /// flat base with no shape is its two ends (the line through them is the road).
     pub fn sample_points(&self) -> Box<dyn Iterator<Item = (f64, f64)> + '_> {
+        if !self.sampled && self.features.is_empty() {
+            let (lo, hi) = self.x_range_m();
+            return Box::new([(lo, 0.0), (hi, 0.0)].into_iter());
+        }
         if self.sampled {
             Box::new(self.base.knots().map(|(x, z)| {
                 (
@@ -352,7 +370,9 @@ impl RoadProfile {
     /// The profile as CSV (`x_m,elevation_m` with header), e.g. for the MCAP attachment.
     /// Reading it back with `from_csv_str` gives the same elevation at every sample.
     pub fn to_csv(&self) -> String {
-        csv::write(self.sample_points())
+        self.csv
+            .get_or_init(|| csv::write(self.sample_points()))
+            .clone()
     }
 
     /// Target band RMS `sqrt(G_d(n0) n0^2 (1/n1 - 1/n2))` of an ISO 8608 profile, m

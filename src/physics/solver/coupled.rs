@@ -14,11 +14,14 @@
 //! the total tyre force is `F_static + f_j` (compression positive), and the bridge carries
 //! `-(F_static + f_j)` at x_j.
 
+mod groups;
+
 use std::borrow::Cow;
 
 use nalgebra::DVector;
 
 pub use super::coupled_vehicle::CoupledVehicle;
+use super::coupled_vehicle::MAX_TYRES_PER_BLOCK;
 use super::linear::SmallLu;
 use super::newmark::{Newmark, NewmarkCoefficients, SolveMode};
 use crate::error::{Error, Result};
@@ -71,17 +74,39 @@ fn load_operator(
     }
 }
 
+/// `out = a.0 a.1 + b.0 b.1` for two operators, merged entry by entry when they share
+/// their indices (a point's deflection and slope do), else laid end to end.
+fn combine(a: (f64, &SparseVec), b: (f64, &SparseVec), out: &mut SparseVec) {
+    out.clear();
+    if a.1.idx == b.1.idx {
+        for ((&i, &va), &vb) in a.1.idx.iter().zip(&a.1.val).zip(&b.1.val) {
+            out.push(i, a.0 * va + b.0 * vb);
+        }
+        return;
+    }
+    for (scale, op) in [a, b] {
+        for (&i, &v) in op.idx.iter().zip(&op.val) {
+            out.push(i, scale * v);
+        }
+    }
+}
+
 /// Per-contact data of one step.
 struct Contact {
     vehicle: usize,
     axle: usize,
+    /// The axle's vehicle block and its tyre's place in it (`None`: a moving force).
+    block: Option<(usize, usize)>,
+    static_load_n: f64,
     x_m: f64,
     on_span: bool,
     h: SparseVec,
     h_slope: SparseVec,
     /// K_eff^-1 h (only for contacts on the span).
     z: DVector<f64>,
-    /// alpha = (kt + a1 ct) h + ct v h'  (bridge side of the linearized tyre force).
+    /// alpha = (kt + a1 ct) h + ct v h': the bridge side of the linearized tyre force,
+    /// empty off the span.
+    alpha: SparseVec,
     kappa: f64,
     c: f64,
     rhs: f64,
@@ -111,14 +136,26 @@ pub struct CoupledSolver<'a> {
     road: &'a dyn RoadSurface,
     contacts: Vec<Contact>,
     rhs: DVector<f64>,
-    beta_u: DVector<f64>,
     lu: SmallLu,
     forces: Vec<f64>,
     entries: Vec<f64>,
     /// Contacts sorted by independent group (see `group_contacts`), and work buffers.
     order: Vec<((usize, usize, usize), usize)>,
     bridge_blocks: Vec<(usize, usize)>,
+    /// The vehicles on the road (index and id, as the contacts were gathered) and the
+    /// blocks on the span, now and when `order` was built: the caller may remove retired
+    /// vehicles from `vehicles`, which shifts the indices.
+    on_road: Vec<(usize, u32)>,
+    grouped_on_road: Vec<(usize, u32)>,
+    grouped_blocks: Vec<(usize, usize)>,
     group_rhs: Vec<f64>,
+    /// Work buffers of the bridge group's push-through solve (see `groups`).
+    on_span_places: Vec<usize>,
+    runs: Vec<groups::BlockRun>,
+    run_of: Vec<usize>,
+    bridge_terms: Vec<f64>,
+    push_through: Vec<f64>,
+    load_on_span: Vec<f64>,
     /// Columns of `K_eff^-1` (see [`Newmark::inverse_columns`]): an influence vector
     /// `Z = K_eff^-1 h` is then a few axpys over the entries of h instead of a solve.
     inverse_columns: Option<Vec<DVector<f64>>>,
@@ -156,13 +193,21 @@ impl<'a> CoupledSolver<'a> {
             road,
             contacts: Vec::new(),
             rhs: DVector::zeros(n),
-            beta_u: DVector::zeros(n),
             lu: SmallLu::with_capacity(8),
             forces: Vec::new(),
             entries: Vec::new(),
             order: Vec::new(),
             bridge_blocks: Vec::new(),
+            on_road: Vec::new(),
+            grouped_on_road: Vec::new(),
+            grouped_blocks: Vec::new(),
             group_rhs: Vec::new(),
+            on_span_places: Vec::new(),
+            runs: Vec::new(),
+            run_of: Vec::new(),
+            bridge_terms: Vec::new(),
+            push_through: Vec::new(),
+            load_on_span: Vec::new(),
         })
     }
 
@@ -233,20 +278,25 @@ impl<'a> CoupledSolver<'a> {
         let dt = self.bridge.coefficients.dt_s;
         let n = self.model.n_dof();
         let mut count = 0;
+        self.on_road.clear();
         for (vi, v) in self.vehicles.iter().enumerate() {
             if !v.active {
                 continue;
             }
+            self.on_road.push((vi, v.id));
             for j in 0..v.dynamics.axles.len() {
                 if self.contacts.len() <= count {
                     self.contacts.push(Contact {
                         vehicle: 0,
                         axle: 0,
+                        block: None,
+                        static_load_n: 0.0,
                         x_m: 0.0,
                         on_span: false,
                         h: SparseVec::with_capacity(n),
                         h_slope: SparseVec::with_capacity(n),
                         z: DVector::zeros(n),
+                        alpha: SparseVec::with_capacity(2 * n),
                         kappa: 0.0,
                         c: 0.0,
                         rhs: 0.0,
@@ -256,12 +306,22 @@ impl<'a> CoupledSolver<'a> {
                 let c = &mut self.contacts[count];
                 c.vehicle = vi;
                 c.axle = j;
+                c.block = v.tyre_place(j);
+                c.static_load_n = v.dynamics.axles[j].static_load_n;
                 c.x_m = v.axle_x_m(j, next, dt);
                 let spread = self.sleeper_spacing_m;
                 let reach = spread.unwrap_or(0.0);
                 c.on_span = [c.x_m - reach, c.x_m, c.x_m + reach]
                     .into_iter()
                     .any(|x| self.model.on_girder(x));
+                c.active = true;
+                count += 1;
+                if !c.on_span {
+                    // Off the girder every operator is empty.
+                    c.h.clear();
+                    c.h_slope.clear();
+                    continue;
+                }
                 let scratch = &mut self.spread_scratch;
                 load_operator(
                     &self.model,
@@ -279,8 +339,6 @@ impl<'a> CoupledSolver<'a> {
                     &mut c.h_slope,
                     scratch,
                 );
-                c.active = true;
-                count += 1;
             }
         }
         self.contacts.truncate(count);
@@ -288,33 +346,32 @@ impl<'a> CoupledSolver<'a> {
 
     /// u0 = K_eff^-1 (history + external - H F_static); Z_j = K_eff^-1 h_j.
     fn prepare_bridge(&mut self) {
-        let c = self.bridge.coefficients;
         self.rhs.copy_from(&self.external_load);
         self.bridge.add_history(&mut self.rhs);
         for contact in &self.contacts {
             if contact.on_span {
-                let load =
-                    self.vehicles[contact.vehicle].dynamics.axles[contact.axle].static_load_n;
-                contact.h.add_scaled_to(-load, &mut self.rhs);
+                contact
+                    .h
+                    .add_scaled_to(-contact.static_load_n, &mut self.rhs);
             }
         }
         self.bridge.solve_in_place(&mut self.rhs);
-        // beta_u = -a1 u - a4 v - a5 a: the part of the new velocity known before the step.
-        let s = &self.bridge.state;
-        self.beta_u.copy_from(&s.u);
-        self.beta_u.scale_mut(-c.a1);
-        self.beta_u.axpy(-c.a4, &s.v, 1.0);
-        self.beta_u.axpy(-c.a5, &s.a, 1.0);
         for contact in &mut self.contacts {
             if contact.on_span {
-                contact.z.fill(0.0);
                 match &self.inverse_columns {
                     Some(columns) => {
-                        for (&k, &w) in contact.h.idx.iter().zip(&contact.h.val) {
+                        // The first column scaled, then the others added: no zero fill.
+                        let mut terms = contact.h.idx.iter().zip(&contact.h.val);
+                        match terms.next() {
+                            Some((&k, &w)) => contact.z.zip_apply(&columns[k], |z, c| *z = w * c),
+                            None => contact.z.fill(0.0),
+                        }
+                        for (&k, &w) in terms {
                             contact.z.axpy(w, &columns[k], 1.0);
                         }
                     }
                     None => {
+                        contact.z.fill(0.0);
                         contact.h.add_scaled_to(1.0, &mut contact.z);
                         self.bridge.solve_in_place(&mut contact.z);
                     }
@@ -328,13 +385,14 @@ impl<'a> CoupledSolver<'a> {
         let c = self.bridge.coefficients;
         for v in &mut self.vehicles {
             if v.active && v.dynamics.n_dof() > 0 {
-                v.predict(&c);
+                v.predict();
             }
         }
         let u0 = &self.rhs;
         for contact in &mut self.contacts {
             let v = &self.vehicles[contact.vehicle];
             let axle = &v.dynamics.axles[contact.axle];
+            contact.alpha.clear();
             let Some(dof) = axle.dof else {
                 contact.kappa = 0.0;
                 contact.c = 0.0;
@@ -352,159 +410,19 @@ impl<'a> CoupledSolver<'a> {
             let mut known = kt * r + ct * speed * r_slope - ct * beta_y;
             let mut alpha_u0 = 0.0;
             if contact.on_span {
-                known += ct * contact.h.dot(&self.beta_u);
-                alpha_u0 = contact.kappa * contact.h.dot(u0) + ct * speed * contact.h_slope.dot(u0);
+                // The part of the new velocity known before the step is -(a1 u + a4 v
+                // + a5 a), the history's velocity part.
+                known -= ct * contact.h.dot(self.bridge.velocity_history());
+                combine(
+                    (contact.kappa, &contact.h),
+                    (ct * speed, &contact.h_slope),
+                    &mut contact.alpha,
+                );
+                alpha_u0 = contact.alpha.dot(u0);
             }
             contact.c = known;
             contact.rhs = alpha_u0 - contact.kappa * v.y0[dof] + known;
         }
-    }
-
-    /// alpha_j . x for a bridge vector x.
-    fn alpha_dot(&self, j: usize, x: &DVector<f64>) -> f64 {
-        let contact = &self.contacts[j];
-        if !contact.on_span || contact.kappa == 0.0 {
-            return 0.0;
-        }
-        let v = &self.vehicles[contact.vehicle];
-        let ct = v.dynamics.axles[contact.axle].tyre_damping_n_s_m;
-        contact.kappa * contact.h.dot(x) + ct * v.velocity_m_s() * contact.h_slope.dot(x)
-    }
-
-    /// Solves the small system for the dynamic tyre forces, with an active set for
-    /// unilateral contact. The system falls apart into independent groups (every tyre
-    /// coupled through the bridge, then each vehicle block off the span on its own), each
-    /// solved alone: a long train off the span costs many 4 x 4 solves, not one large one.
-    fn solve_contact_forces(&mut self) {
-        let p = self.contacts.len();
-        self.forces.resize(p, 0.0);
-        self.group_contacts();
-        let order = std::mem::take(&mut self.order);
-        for _iteration in 0..20 {
-            // Inactive rows pin f_j = -F_static (zero total force).
-            for (j, contact) in self.contacts.iter().enumerate() {
-                self.forces[j] = if contact.active {
-                    contact.rhs
-                } else {
-                    -self.vehicles[contact.vehicle].dynamics.axles[contact.axle].static_load_n
-                };
-            }
-            for members in order.chunk_by(|a, b| a.0 == b.0) {
-                self.solve_group(members);
-            }
-            if self.contact_law == ContactLaw::Full || !self.update_active_set() {
-                break;
-            }
-        }
-        self.order = order;
-    }
-
-    /// Sorts the contacts by group: 0 every tyre coupled through the bridge (a vehicle
-    /// block with any tyre on the span), then one group per other block, then moving
-    /// forces alone.
-    fn group_contacts(&mut self) {
-        self.bridge_blocks.clear();
-        for c in &self.contacts {
-            if let (true, Some(b)) = (c.on_span, self.vehicles[c.vehicle].block_of_axle(c.axle)) {
-                self.bridge_blocks.push((c.vehicle, b));
-            }
-        }
-        self.bridge_blocks.sort_unstable();
-        self.bridge_blocks.dedup();
-        self.order.clear();
-        for (j, c) in self.contacts.iter().enumerate() {
-            let key = match self.vehicles[c.vehicle].block_of_axle(c.axle) {
-                Some(b) if self.bridge_blocks.binary_search(&(c.vehicle, b)).is_ok() => (0, 0, 0),
-                Some(b) => (1, c.vehicle, b),
-                None => (2, j, 0),
-            };
-            self.order.push((key, j));
-        }
-        self.order.sort_unstable();
-    }
-
-    /// Matrix B_jk = delta_jk + alpha_j . Z_k + kappa_j G_jk (same vehicle block) over the
-    /// group's contacts; `forces` holds the right-hand side and receives the solution.
-    fn solve_group(&mut self, members: &[((usize, usize, usize), usize)]) {
-        let m = members.len();
-        if m == 1 && self.contacts[members[0].1].kappa == 0.0 {
-            return; // a moving force: identity row
-        }
-        let mut entries = std::mem::take(&mut self.entries);
-        entries.clear();
-        entries.extend(
-            (0..m * m).map(|idx| self.system_entry(members[idx % m].1, members[idx / m].1)),
-        );
-        self.group_rhs.clear();
-        self.group_rhs
-            .extend(members.iter().map(|&(_, j)| self.forces[j]));
-        self.lu
-            .solve(m, |i, j| entries[i + j * m], &mut self.group_rhs);
-        for (&(_, j), &f) in members.iter().zip(&self.group_rhs) {
-            self.forces[j] = f;
-        }
-        self.entries = entries;
-    }
-
-    fn system_entry(&self, j: usize, k: usize) -> f64 {
-        let cj = &self.contacts[j];
-        let identity = if j == k { 1.0 } else { 0.0 };
-        if !cj.active || cj.kappa == 0.0 {
-            return identity;
-        }
-        let ck = &self.contacts[k];
-        let mut entry = identity;
-        if cj.on_span && ck.on_span {
-            entry += self.alpha_dot(j, &ck.z);
-        }
-        if cj.vehicle == ck.vehicle {
-            entry += cj.kappa * self.vehicles[cj.vehicle].tyre_coupling(cj.axle, ck.axle);
-        }
-        entry
-    }
-
-    /// Flips contacts whose state is inconsistent with the solution; true if any changed.
-    fn update_active_set(&mut self) -> bool {
-        let mut changed = false;
-        for j in 0..self.contacts.len() {
-            let f_trial = self.trial_force(j);
-            let contact = &self.contacts[j];
-            let axle = &self.vehicles[contact.vehicle].dynamics.axles[contact.axle];
-            if axle.dof.is_none() {
-                continue;
-            }
-            let total = axle.static_load_n + f_trial;
-            let should_touch = total > 0.0;
-            if should_touch != contact.active {
-                self.contacts[j].active = should_touch;
-                changed = true;
-            }
-        }
-        changed
-    }
-
-    /// The tyre force law evaluated at the current solution (what the tyre would carry in contact).
-    fn trial_force(&self, j: usize) -> f64 {
-        let contact = &self.contacts[j];
-        if !contact.active {
-            let v = &self.vehicles[contact.vehicle];
-            if v.dynamics.axles[contact.axle].dof.is_none() {
-                return 0.0;
-            }
-            // u = u0 - Z f, y = y0 + W f: the law's linear form at that state.
-            let mut value = contact.rhs;
-            for (k, ck) in self.contacts.iter().enumerate() {
-                if contact.on_span && ck.on_span {
-                    value -= self.alpha_dot(j, &ck.z) * self.forces[k];
-                }
-                if ck.vehicle == contact.vehicle {
-                    value -=
-                        contact.kappa * v.tyre_coupling(contact.axle, ck.axle) * self.forces[k];
-                }
-            }
-            return value;
-        }
-        self.forces[j]
     }
 
     /// u = u0 - Z f, y = y0 + W f; Newmark updates; records contact forces.
@@ -520,19 +438,22 @@ impl<'a> CoupledSolver<'a> {
         let c = self.bridge.coefficients;
         for (k, contact) in self.contacts.iter().enumerate() {
             let v = &mut self.vehicles[contact.vehicle];
-            v.add_tyre_force(contact.axle, self.forces[k]);
-            let total = v.dynamics.axles[contact.axle].static_load_n + self.forces[k];
-            v.contact_force_n[contact.axle] = total;
+            v.contact_force_n[contact.axle] = contact.static_load_n + self.forces[k];
             v.in_contact[contact.axle] = contact.active;
         }
+        // Contacts are gathered vehicle by vehicle, axle by axle: each active vehicle's
+        // dynamic forces are the next run of `forces`.
+        let mut first = 0;
         for v in &mut self.vehicles {
             if !v.active {
                 continue;
             }
+            let axles = v.dynamics.axles.len();
             if v.in_contact.iter().any(|&t| !t) || v.contact_force_n.iter().any(|&f| f < 0.0) {
                 v.contact_loss_steps += 1;
             }
-            v.finish_step(&c);
+            v.finish_step(&c, &self.forces[first..first + axles]);
+            first += axles;
         }
     }
 

@@ -10,23 +10,37 @@
 use nalgebra::{DMatrix, DVector};
 
 use super::newmark::{NewmarkCoefficients, State};
+use crate::base::dot::dot;
 use crate::error::{Error, Result};
 use crate::physics::road::RoadSurface;
 use crate::physics::vehicle::VehicleDynamics;
+
+/// Blocks with more tyres than this are solved as a general group (an articulated rake is
+/// one block with all its wheelsets; a car or a road vehicle has a few).
+pub(super) const MAX_TYRES_PER_BLOCK: usize = 16;
 
 /// One independent part of a vehicle: DOFs coupled by its mass, damping or stiffness.
 struct Block {
     /// The vehicle DOFs of the block, ascending.
     dofs: Vec<usize>,
-    mass: DMatrix<f64>,
-    damping: DMatrix<f64>,
-    factor: nalgebra::linalg::Cholesky<f64, nalgebra::Dyn>,
+    /// `K_eff,b^-1 [a0 M + a1 C | a2 M + a4 C | a3 M + a5 C]` (m x 3m, row-major): the
+    /// step's prediction from the history is one product with the stacked (u, v, a),
+    /// instead of two products and two triangular solves every step.
+    propagator: Vec<f64>,
     /// Per tyre of the block (`tyres[i]` is the axle): `K_eff,b^-1 e_dof` over the block.
     tyres: Vec<usize>,
     w: Vec<DVector<f64>>,
-    /// Block-local work vectors.
-    gathered: DVector<f64>,
-    history: DVector<f64>,
+    /// `coupling[i + t k]`: tyre i's DOF under a unit force on tyre k (t tyres), the
+    /// block's part of the contact system, read from `w` once.
+    coupling: Vec<f64>,
+    /// `(I + kappa G)^-1` (t x t, column-major): the contact system of the block alone,
+    /// every tyre touching a rigid road. It does not change while the block is off the
+    /// span, so most of a long train's tyres cost one small product a step, not a solve.
+    contact_inverse: Vec<f64>,
+    /// Block-local work vectors: the stacked (u, v, a), and the displacement (predicted,
+    /// then with the tyre forces' response).
+    gathered: Vec<f64>,
+    history: Vec<f64>,
 }
 
 /// A vehicle on the road, with its own Newmark state.
@@ -133,11 +147,6 @@ impl CoupledVehicle {
         self.blocks.len()
     }
 
-    /// The block of axle `j`'s tyre DOF (`None` for a moving force).
-    pub(super) fn block_of_axle(&self, j: usize) -> Option<usize> {
-        self.block_of_axle[j].map(|(b, _)| b)
-    }
-
     /// Static equilibrium on the road under the axles, and the blocks' factors.
     pub(super) fn activate(
         &mut self,
@@ -160,6 +169,8 @@ impl CoupledVehicle {
         let k_eff = &d.stiffness + &d.mass * coefficients.a0 + &d.damping * coefficients.a1;
         self.blocks.clear();
         self.block_of_dof = vec![(0, 0); d.n_dof()];
+        let c = coefficients;
+        let mut factors = Vec::new();
         for dofs in connected_dofs(&k_eff, &d.mass, &d.damping) {
             let sub = |a: &DMatrix<f64>| a.select_rows(&dofs).select_columns(&dofs);
             let factor = sub(&k_eff).cholesky().ok_or_else(|| Error::Factorization {
@@ -171,16 +182,28 @@ impl CoupledVehicle {
                 self.block_of_dof[dof] = (b, place);
             }
             let m = dofs.len();
+            let (mass, damping) = (sub(&d.mass), sub(&d.damping));
+            let mut propagator = DMatrix::zeros(m, 3 * m);
+            for (part, (cm, cc)) in [(c.a0, c.a1), (c.a2, c.a4), (c.a3, c.a5)]
+                .into_iter()
+                .enumerate()
+            {
+                let mut history = &mass * cm + &damping * cc;
+                factor.solve_mut(&mut history);
+                propagator.columns_mut(part * m, m).copy_from(&history);
+            }
+            let propagator = propagator.transpose().as_slice().to_vec();
             self.blocks.push(Block {
-                mass: sub(&d.mass),
-                damping: sub(&d.damping),
-                factor,
+                propagator,
                 tyres: Vec::new(),
                 w: Vec::new(),
-                gathered: DVector::zeros(m),
-                history: DVector::zeros(m),
+                coupling: Vec::new(),
+                contact_inverse: Vec::new(),
+                gathered: vec![0.0; 3 * m],
+                history: vec![0.0; m],
                 dofs,
             });
+            factors.push(factor);
         }
         for (j, axle) in d.axles.iter().enumerate() {
             self.block_of_axle[j] = axle.dof.map(|dof| {
@@ -188,68 +211,120 @@ impl CoupledVehicle {
                 let block = &mut self.blocks[b];
                 let mut col = DVector::zeros(block.dofs.len());
                 col[place] = 1.0;
-                block.factor.solve_mut(&mut col);
+                factors[b].solve_mut(&mut col);
                 block.tyres.push(j);
                 block.w.push(col);
                 (b, block.tyres.len() - 1)
             });
         }
+        for block in &mut self.blocks {
+            let t = block.tyres.len();
+            block.coupling = (0..t * t)
+                .map(|ik| {
+                    let dof = d.axles[block.tyres[ik % t]].dof.unwrap_or_default();
+                    block.w[ik / t][self.block_of_dof[dof].1]
+                })
+                .collect();
+            if t > MAX_TYRES_PER_BLOCK {
+                continue;
+            }
+            let kappa: Vec<f64> = (block.tyres.iter())
+                .map(|&j| d.axles[j].tyre_stiffness_n_m + c.a1 * d.axles[j].tyre_damping_n_s_m)
+                .collect();
+            let system = DMatrix::from_fn(t, t, |i, k| {
+                f64::from(i == k) + kappa[i] * block.coupling[i + t * k]
+            });
+            let inverse = system.try_inverse().ok_or_else(|| Error::Factorization {
+                what: format!("tyre contact system of vehicle {}", self.id),
+                reason: "singular (check tyre and suspension parameters)".into(),
+            })?;
+            block.contact_inverse = inverse.as_slice().to_vec();
+        }
         Ok(())
     }
 
-    /// `(K_eff,v^-1)` between the tyre DOFs of axles `j` and `k`: how much a unit force on
-    /// tyre `k` moves tyre `j`'s DOF (0 across blocks).
-    pub(super) fn tyre_coupling(&self, j: usize, k: usize) -> f64 {
-        match (self.block_of_axle[j], self.block_of_axle[k]) {
-            (Some((bj, _)), Some((bk, tk))) if bj == bk => {
-                let dof = self.dynamics.axles[j].dof.unwrap_or_default();
-                self.blocks[bk].w[tk][self.block_of_dof[dof].1]
-            }
-            _ => 0.0,
+    /// `(K_eff,v^-1)` between two tyre DOFs of block `block` (by their places, see
+    /// [`Self::tyre_place`]): how much a unit force on tyre `tk` moves tyre `tj`'s DOF.
+    pub(super) fn block_coupling(&self, block: usize, tj: usize, tk: usize) -> f64 {
+        let b = &self.blocks[block];
+        b.coupling[tj + b.tyres.len() * tk]
+    }
+
+    /// The dynamic tyre forces of block `block` off the span, every tyre in contact:
+    /// `forces[i]` holds the right-hand side of tyre place i and receives its force.
+    pub(super) fn solve_off_span(&self, block: usize, forces: &mut [f64]) {
+        let b = &self.blocks[block];
+        let t = b.tyres.len();
+        let mut rhs = [0.0; MAX_TYRES_PER_BLOCK];
+        rhs[..t].copy_from_slice(forces);
+        for (i, f) in forces.iter_mut().enumerate() {
+            *f = (0..t).map(|k| b.contact_inverse[i + t * k] * rhs[k]).sum();
         }
+    }
+
+    /// `(I + kappa G)^-1` of block `block` between its tyre places `tj` and `tk` (blocks
+    /// of at most [`MAX_TYRES_PER_BLOCK`] tyres).
+    pub(super) fn contact_inverse(&self, block: usize, tj: usize, tk: usize) -> f64 {
+        let b = &self.blocks[block];
+        b.contact_inverse[tj + b.tyres.len() * tk]
+    }
+
+    /// Tyres of block `block`.
+    pub(super) fn block_tyres(&self, block: usize) -> usize {
+        self.blocks[block].tyres.len()
+    }
+
+    /// Axle `j`'s block and its tyre's place among the block's tyres (`None`: a moving
+    /// force).
+    pub(super) fn tyre_place(&self, j: usize) -> Option<(usize, usize)> {
+        self.block_of_axle[j]
     }
 
     /// y0 = K_eff,v^-1 (history): the displacement with no dynamic tyre force.
-    pub(super) fn predict(&mut self, c: &NewmarkCoefficients) {
-        let s = &self.state;
+    pub(super) fn predict(&mut self) {
+        let (u, v, a) = (
+            self.state.u.as_slice(),
+            self.state.v.as_slice(),
+            self.state.a.as_slice(),
+        );
         for block in &mut self.blocks {
-            // history = M (a0 u + a2 v + a3 a) + C (a1 u + a4 v + a5 a), block by block.
-            for (place, &dof) in block.dofs.iter().enumerate() {
-                block.gathered[place] = c.a0 * s.u[dof] + c.a2 * s.v[dof] + c.a3 * s.a[dof];
+            // K_eff^-1 (M (a0 u + a2 v + a3 a) + C (a1 u + a4 v + a5 a)), block by block.
+            let m = block.dofs.len();
+            let (gu, rest) = block.gathered.split_at_mut(m);
+            let (gv, ga) = rest.split_at_mut(m);
+            for (((&dof, gu), gv), ga) in block.dofs.iter().zip(gu).zip(gv).zip(ga) {
+                (*gu, *gv, *ga) = (u[dof], v[dof], a[dof]);
             }
-            block.history.gemv(1.0, &block.mass, &block.gathered, 0.0);
-            for (place, &dof) in block.dofs.iter().enumerate() {
-                block.gathered[place] = c.a1 * s.u[dof] + c.a4 * s.v[dof] + c.a5 * s.a[dof];
-            }
-            block
-                .history
-                .gemv(1.0, &block.damping, &block.gathered, 1.0);
-            block.factor.solve_mut(&mut block.history);
-            for (place, &dof) in block.dofs.iter().enumerate() {
-                self.y0[dof] = block.history[place];
+            let rows = block.propagator.chunks_exact(3 * m);
+            for ((y, row), &dof) in block.history.iter_mut().zip(rows).zip(&block.dofs) {
+                *y = dot(row, &block.gathered);
+                self.y0[dof] = *y;
             }
         }
     }
 
-    /// y0 += f K_eff,v^-1 e_dof(j): the response to the dynamic force `f` on tyre `j`.
-    pub(super) fn add_tyre_force(&mut self, j: usize, force_n: f64) {
-        if let Some((b, t)) = self.block_of_axle[j] {
-            let block = &self.blocks[b];
-            for (place, &dof) in block.dofs.iter().enumerate() {
-                self.y0[dof] += force_n * block.w[t][place];
+    /// Adds each tyre's response to its dynamic force (`dynamic_force_n`, per axle) to
+    /// the prediction, block by block (y = y0 + sum f_t K_eff,b^-1 e_t), and makes the
+    /// Newmark update of the vehicle state to that displacement.
+    pub(super) fn finish_step(&mut self, c: &NewmarkCoefficients, dynamic_force_n: &[f64]) {
+        let (u, v, a) = (
+            self.state.u.as_mut_slice(),
+            self.state.v.as_mut_slice(),
+            self.state.a.as_mut_slice(),
+        );
+        for block in &mut self.blocks {
+            for (&axle, w) in block.tyres.iter().zip(&block.w) {
+                let f = dynamic_force_n[axle];
+                for (y, &wi) in block.history.iter_mut().zip(w.as_slice()) {
+                    *y += f * wi;
+                }
             }
-        }
-    }
-
-    /// Newmark update of the vehicle state to the solved displacement `y0`.
-    pub(super) fn finish_step(&mut self, c: &NewmarkCoefficients) {
-        let s = &mut self.state;
-        for i in 0..self.dynamics.n_dof() {
-            let y_next = self.y0[i];
-            let a_next = c.acceleration(y_next, s.u[i], s.v[i], s.a[i]);
-            s.v[i] += c.dt_s * ((1.0 - c.gamma) * s.a[i] + c.gamma * a_next);
-            s.a[i] = a_next;
-            s.u[i] = y_next;
+            for (&y_next, &i) in block.history.iter().zip(&block.dofs) {
+                let a_next = c.acceleration(y_next, u[i], v[i], a[i]);
+                v[i] += c.dt_s * ((1.0 - c.gamma) * a[i] + c.gamma * a_next);
+                a[i] = a_next;
+                u[i] = y_next;
+            }
         }
     }
 }

@@ -145,6 +145,9 @@ pub struct Newmark {
     factor: Option<Factor>,
     k_eff_dense: DMatrix<f64>,
     scratch: DVector<f64>,
+    /// `a1 u + a4 v + a5 a` of the last [`Newmark::add_history`]: minus the part of the
+    /// next velocity known before the step.
+    velocity_history: DVector<f64>,
     rhs: DVector<f64>,
 }
 
@@ -184,6 +187,7 @@ impl Newmark {
                 DMatrix::zeros(0, 0)
             },
             scratch: DVector::zeros(n),
+            velocity_history: DVector::zeros(n),
             rhs: DVector::zeros(n),
         })
     }
@@ -192,16 +196,24 @@ impl Newmark {
     pub fn add_history(&mut self, rhs: &mut DVector<f64>) {
         let c = self.coefficients;
         let s = &self.state;
-        self.scratch.copy_from(&s.u);
-        self.scratch.scale_mut(c.a0);
-        self.scratch.axpy(c.a2, &s.v, 1.0);
-        self.scratch.axpy(c.a3, &s.a, 1.0);
+        // Both combinations in one pass over the state.
+        let (p, q) = (
+            self.scratch.as_mut_slice(),
+            self.velocity_history.as_mut_slice(),
+        );
+        let (u, v, a) = (s.u.as_slice(), s.v.as_slice(), s.a.as_slice());
+        for i in 0..u.len() {
+            p[i] = c.a0 * u[i] + c.a2 * v[i] + c.a3 * a[i];
+            q[i] = c.a1 * u[i] + c.a4 * v[i] + c.a5 * a[i];
+        }
         self.mass.mul_add(1.0, &self.scratch, rhs);
-        self.scratch.copy_from(&s.u);
-        self.scratch.scale_mut(c.a1);
-        self.scratch.axpy(c.a4, &s.v, 1.0);
-        self.scratch.axpy(c.a5, &s.a, 1.0);
-        self.damping.mul_add(1.0, &self.scratch, rhs);
+        self.damping.mul_add(1.0, &self.velocity_history, rhs);
+    }
+
+    /// `a1 u + a4 v + a5 a` at the last [`Newmark::add_history`] (the new velocity is
+    /// `a1 u_next` minus this).
+    pub fn velocity_history(&self) -> &DVector<f64> {
+        &self.velocity_history
     }
 
     /// `K_eff^-1` as dense columns when that pays for the coupling's influence vectors:
