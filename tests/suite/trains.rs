@@ -86,6 +86,53 @@ fn every_hslm_axle_carries_p_as_moving_force_and_as_vehicle() {
 }
 
 #[test]
+fn en1991_type4_is_the_annex_d_train_with_17_t_on_every_axle() {
+    // Independent construction from the Annex D figure as a list of vehicles, each by the
+    // distances between its coupler ends and its axles (the pacril transcription's form):
+    // power car, end trailer, eight intermediate trailers, end trailer, power car.
+    let power = [3.5, 3.0, 11.0, 3.0, 1.65];
+    let end_a = [1.65, 3.0, 15.7, 1.5];
+    let middle = [1.5, 15.7, 1.5];
+    let end_c = [1.5, 15.7, 3.0, 1.65];
+    let rear = [1.65, 3.0, 11.0, 3.0, 3.5];
+    let mut vehicles: Vec<&[f64]> = vec![&power, &end_a];
+    vehicles.extend(std::iter::repeat_n(&middle[..], 8));
+    vehicles.extend([&end_c[..], &rear[..]]);
+    let mut want = Vec::new();
+    let mut coupler = 0.0;
+    for gaps in vehicles {
+        let mut x = coupler;
+        for (k, g) in gaps.iter().enumerate() {
+            x += g;
+            if k + 1 < gaps.len() {
+                want.push(x);
+            }
+        }
+        coupler = x;
+    }
+    // The trailers' articulation points are Jacobs bogies: the axle on each side of one
+    // belongs to the two trailers, one listed with each.
+    let want: Vec<f64> = want.iter().map(|x| x - want[0]).collect();
+    assert_eq!(want.len(), 30);
+    for r in [Representation::MovingForces, Representation::Vehicles] {
+        let t = train("en1991_type4", r);
+        let got: Vec<f64> = t.axles.iter().map(|a| a.offset_m).collect();
+        assert_eq!(got.len(), want.len(), "{r:?}");
+        for (g, w) in got.iter().zip(&want) {
+            assert!((g - w).abs() < 1e-9, "{r:?}: {got:?}");
+        }
+        for a in &t.axles {
+            let tonnes = a.static_load_n / GRAVITY_M_S2 / 1e3;
+            assert!((tonnes / 17.0 - 1.0).abs() < 1e-9, "{r:?}: {tonnes} t");
+        }
+    }
+    // As vehicles: one articulated rake of ten bodies on eleven bogies between the power
+    // cars (each with its own body and two bogies).
+    let t = train("en1991_type4", Representation::Vehicles);
+    assert_eq!(t.n_dof(), 2 * 12 + 2 * 15 + 30, "bodies, bogies, wheelsets");
+}
+
+#[test]
 fn ice3_cars_carry_their_weight_by_the_lever_rule() {
     // A conventional car with its centre midway: each wheelset a quarter of the body, half
     // a bogie and itself (Goicolea 2014's masses).

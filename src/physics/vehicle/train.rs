@@ -297,12 +297,43 @@ impl HslmBogies {
 pub fn hslm_a(number: usize) -> Train {
     let (n, coach_m, d, p_kn) = HSLM_A[number - 1];
     let p = p_kn * 1e3;
-    let power = hslm_power_car(p);
+    // The end coach's outer bogie to the first Jacobs bogie: its front axle
+    // `D - 1.5 d - 3.525 / 2` behind the outer bogie's rear axle (Figure E.8).
+    let end_span_m = coach_m - 0.5 * d - 0.5 * HSLM_COUPLING_M;
+    let rake = articulated_rake(n, end_span_m, coach_m, d, p, HSLM_COUPLING_M);
+    powered_rake(format!("hslm_a{number}"), p, rake, HSLM_COUPLING_M)
+}
+
+/// The articulated high-speed train of EN 1991-2 Annex D, train type 4 (the TGV family):
+/// two power cars of four 17 t axles (bogies of 3.0 m wheelbase, 11.0 m between their
+/// inner axles) and ten trailers on two outer bogies and nine Jacobs bogies (3.0 m
+/// wheelbase, 18.7 m apart; 15.7 m from an outer bogie's inner axle to the first Jacobs
+/// bogie's), 17 t on every axle, 1.65 m from each end axle to its coupler: 30 axles.
+/// Source: the standard's figure as transcribed in the pacril package
+/// (Gunnstein/pacril, `data/eurocode.py`, `Type4`); the standard's own text was not at
+/// hand. The 14.0 m power-car bogie spacing and the 18.7 m trailer pitch agree with the
+/// AVE axle file of the UPM CALDINTAV code (`trains/ave.def`) and with the Eurostar of
+/// TTB-2D. As vehicles it takes the HSLM vehicle models' bogies (the Eurostar's, below)
+/// with the bodies' masses set so that every axle carries its 17 t.
+pub fn en1991_type4() -> Train {
+    const AXLE_LOAD_N: f64 = 17_000.0 * GRAVITY_M_S2;
+    const COUPLING_M: f64 = 2.0 * 1.65;
+    const WHEELBASE_M: f64 = 3.0;
+    const PITCH_M: f64 = 18.7;
+    // Outer bogie centre to the first Jacobs bogie's: half a wheelbase, 15.7 m, half.
+    let end_span_m = WHEELBASE_M + 15.7;
+    let rake = articulated_rake(8, end_span_m, PITCH_M, WHEELBASE_M, AXLE_LOAD_N, COUPLING_M);
+    powered_rake("en1991_type4".into(), AXLE_LOAD_N, rake, COUPLING_M)
+}
+
+/// Power car, `rake`, power car turned round: the HSLM and TGV-family layout.
+fn powered_rake(name: String, p_n: f64, rake: TrainUnit, coupling_m: f64) -> Train {
+    let power = power_car(p_n, coupling_m);
     Train {
-        name: format!("hslm_a{number}"),
+        name,
         units: vec![
             power.clone(),
-            hslm_articulated_rake(n, coach_m, d, p),
+            rake,
             TrainUnit {
                 layout: mirrored(&power.layout),
                 ..power
@@ -311,13 +342,14 @@ pub fn hslm_a(number: usize) -> Train {
     }
 }
 
-/// A power car on two bogies of 3 m wheelbase, 14 m apart, each axle carrying P.
-fn hslm_power_car(p_n: f64) -> TrainUnit {
+/// A power car on two bogies of 3 m wheelbase, 14 m apart, each axle carrying P, half a
+/// coupling `coupling_m` from each end axle to its coupler.
+fn power_car(p_n: f64, coupling_m: f64) -> TrainUnit {
     let g = &HSLM_POWER_BOGIE;
     let [a0, a1, a2, a3] = HSLM_POWER_CAR_AXLES_M;
     let body_weight_n = 4.0 * p_n - 2.0 * g.weight_n();
     let mass = body_weight_n / GRAVITY_M_S2;
-    let length_m = a3 - a0 + HSLM_COUPLING_M;
+    let length_m = a3 - a0 + coupling_m;
     TrainUnit {
         layout: RakeLayout {
             bodies: vec![CarBody {
@@ -337,23 +369,29 @@ fn hslm_power_car(p_n: f64) -> TrainUnit {
                 })
                 .collect(),
         },
-        nose_m: 0.5 * HSLM_COUPLING_M,
+        nose_m: 0.5 * coupling_m,
         length_m,
         contact_stiffness_n_m: None,
     }
 }
 
 /// End coach, N intermediate coaches, end coach on N + 3 bogies of wheelbase d: the end
-/// coaches' outer bogies and N + 1 Jacobs bogies D apart, the first Jacobs bogie's front
-/// axle `D - 1.5 d - 3.525 / 2` behind the outer bogie's rear axle (Figure E.8).
+/// coaches' outer bogies, `end_span_m` from the first and last of N + 1 Jacobs bogies D
+/// apart, half a coupling `coupling_m` from each end axle to its coupler.
 ///
 /// Every axle carries P: an intermediate body weighs `W = 2P - bogie` (each Jacobs bogie
 /// carries two half bodies); an end coach weighs `1.5 W` with its centre a third of its
 /// pivot spacing from its outer bogie, which then takes `W` and the Jacobs bogie `W / 2`.
-fn hslm_articulated_rake(n: usize, coach_m: f64, d: f64, p_n: f64) -> TrainUnit {
+fn articulated_rake(
+    n: usize,
+    end_span_m: f64,
+    coach_m: f64,
+    d: f64,
+    p_n: f64,
+    coupling_m: f64,
+) -> TrainUnit {
     let g = &HSLM_COACH_BOGIE;
     let w_n = 2.0 * p_n - g.weight_n();
-    let end_span_m = coach_m - 0.5 * d - 0.5 * HSLM_COUPLING_M;
     let mut centres = vec![0.5 * d];
     centres.extend((0..=n).map(|k| 0.5 * d + end_span_m + k as f64 * coach_m));
     centres.push(centres[n + 1] + end_span_m);
@@ -392,8 +430,8 @@ fn hslm_articulated_rake(n: usize, coach_m: f64, d: f64, p_n: f64) -> TrainUnit 
             bogies,
             pivots,
         },
-        nose_m: 0.5 * HSLM_COUPLING_M,
-        length_m: last_axle_m + HSLM_COUPLING_M,
+        nose_m: 0.5 * coupling_m,
+        length_m: last_axle_m + coupling_m,
         contact_stiffness_n_m: None,
     }
 }

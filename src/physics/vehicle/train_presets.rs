@@ -1,7 +1,7 @@
 //! Preset railway cars and trains, each with the source of its numbers.
 
 use super::rake::Suspension;
-use super::train::{hslm_a, CarParams, Train, HSLM_A};
+use super::train::{en1991_type4, hslm_a, CarParams, Train, HSLM_A};
 
 /// The car presets (`cars = [{ preset = ... }]`).
 pub const CAR_PRESETS: [&str; 4] = [
@@ -12,7 +12,7 @@ pub const CAR_PRESETS: [&str; 4] = [
 ];
 
 /// The train presets (`model = { kind = "train", preset = ... }`).
-pub const TRAIN_PRESETS: [&str; 13] = [
+pub const TRAIN_PRESETS: [&str; 14] = [
     "hslm_a1",
     "hslm_a2",
     "hslm_a3",
@@ -25,6 +25,7 @@ pub const TRAIN_PRESETS: [&str; 13] = [
     "hslm_a10",
     "ice3",
     "ice3_double",
+    "en1991_type4",
     "manchester_benchmark",
 ];
 
@@ -127,6 +128,7 @@ pub fn train_preset(name: &str) -> Option<Train> {
     match name {
         "ice3" => Some(of_cars(ice3_cars())),
         "ice3_double" => Some(of_cars([ice3_cars(), ice3_cars()].concat())),
+        "en1991_type4" => Some(en1991_type4()),
         "manchester_benchmark" => Some(of_cars(vec![manchester_benchmark()])),
         _ => None,
     }
