@@ -133,6 +133,45 @@ fn en1991_type4_is_the_annex_d_train_with_17_t_on_every_axle() {
 }
 
 #[test]
+fn en1991_freight_trains_are_their_annex_d_axles_as_moving_forces_only() {
+    // Written out from the Annex D definitions (locomotive axle gaps; a bogie wagon by its
+    // end-to-bogie-centre a, bogie spacing b and wheelbase c: axles at a - c/2, a + c/2,
+    // a + b - c/2, a + b + c/2 of a 2a + b wagon).
+    let loco = [1.4, 3.6, 5.8, 12.7, 14.9, 17.1];
+    for (name, tonnes, a, b, c) in [
+        ("en1991_type7", 22.5, 2.5, 12.8, 1.8),
+        ("en1991_type11", 25.0, 2.5, 13.0, 2.0),
+    ] {
+        let mut want: Vec<(f64, f64)> = loco.iter().map(|&x| (x, 22.5)).collect();
+        for w in 0..10 {
+            let start = 18.5 + w as f64 * (2.0 * a + b);
+            for x in [a - c / 2.0, a + c / 2.0, a + b - c / 2.0, a + b + c / 2.0] {
+                want.push((start + x, tonnes));
+            }
+        }
+        let t = train(name, Representation::MovingForces);
+        assert_eq!(t.axles.len(), 46, "{name}");
+        assert_eq!(t.n_dof(), 0, "{name}: moving forces");
+        for (axle, (x, w_t)) in t.axles.iter().zip(&want) {
+            assert!(
+                (axle.offset_m - (x - 1.4)).abs() < 1e-9,
+                "{name}: {}",
+                axle.offset_m
+            );
+            let got_t = axle.static_load_n / GRAVITY_M_S2 / 1e3;
+            assert!((got_t - w_t).abs() < 1e-9, "{name}: {got_t} t");
+        }
+        // No vehicle model: asked for one, the train says why.
+        let err = train_preset(name)
+            .unwrap()
+            .build(Representation::Vehicles)
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("moving_forces") && err.contains(name), "{err}");
+    }
+}
+
+#[test]
 fn ice3_cars_carry_their_weight_by_the_lever_rule() {
     // A conventional car with its centre midway: each wheelset a quarter of the body, half
     // a bogie and itself (Goicolea 2014's masses).

@@ -1,7 +1,7 @@
 //! Preset railway cars and trains, each with the source of its numbers.
 
 use super::rake::Suspension;
-use super::train::{en1991_type4, hslm_a, CarParams, Train, HSLM_A};
+use super::train::{en1991_freight, en1991_type4, hslm_a, CarParams, Train, HSLM_A};
 
 /// The car presets (`cars = [{ preset = ... }]`).
 pub const CAR_PRESETS: [&str; 4] = [
@@ -12,7 +12,7 @@ pub const CAR_PRESETS: [&str; 4] = [
 ];
 
 /// The train presets (`model = { kind = "train", preset = ... }`).
-pub const TRAIN_PRESETS: [&str; 14] = [
+pub const TRAIN_PRESETS: [&str; 16] = [
     "hslm_a1",
     "hslm_a2",
     "hslm_a3",
@@ -26,6 +26,8 @@ pub const TRAIN_PRESETS: [&str; 14] = [
     "ice3",
     "ice3_double",
     "en1991_type4",
+    "en1991_type7",
+    "en1991_type11",
     "manchester_benchmark",
 ];
 
@@ -118,6 +120,7 @@ pub fn train_preset(name: &str) -> Option<Train> {
     let of_cars = |cars: Vec<CarParams>| Train {
         name: name.to_string(),
         units: cars.iter().map(CarParams::unit).collect(),
+        axles_only: None,
     };
     if let Some(number) = name.strip_prefix("hslm_a") {
         return match number.parse::<usize>() {
@@ -129,6 +132,8 @@ pub fn train_preset(name: &str) -> Option<Train> {
         "ice3" => Some(of_cars(ice3_cars())),
         "ice3_double" => Some(of_cars([ice3_cars(), ice3_cars()].concat())),
         "en1991_type4" => Some(en1991_type4()),
+        "en1991_type7" => Some(en1991_freight(name, 22.5, 2.5, 12.8, 1.8)),
+        "en1991_type11" => Some(en1991_freight(name, 25.0, 2.5, 13.0, 2.0)),
         "manchester_benchmark" => Some(of_cars(vec![manchester_benchmark()])),
         _ => None,
     }

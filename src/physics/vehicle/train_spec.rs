@@ -150,6 +150,7 @@ impl TrainSpec {
             (None, false) => Train {
                 name: String::new(),
                 units: self.cars(path)?.iter().map(CarParams::unit).collect(),
+                axles_only: None,
             },
             (Some(name), false) => {
                 return Err(Error::invalid(
@@ -174,6 +175,18 @@ impl TrainSpec {
             RepresentationSpec::Vehicles => Representation::Vehicles,
             RepresentationSpec::MovingForces => Representation::MovingForces,
         };
+        if train.axles_only.is_some() && representation == Representation::Vehicles {
+            return Err(Error::invalid(
+                format!("{path}.representation"),
+                "\"vehicles\"",
+                format!(
+                    "(the default) is not available for {}: a load model, axle loads and \
+                     geometry only, with no published suspension for its vehicles; use \
+                     representation = \"moving_forces\"",
+                    self.preset.as_deref().unwrap_or_default()
+                ),
+            ));
+        }
         train.build(representation)
     }
 

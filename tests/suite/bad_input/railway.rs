@@ -18,6 +18,18 @@ pub(super) fn railway_cases() -> Vec<Case> {
             ],
         ),
         Case::edit(
+            "a load model as vehicles",
+            &[Set(
+                "vehicles.0.model",
+                "{ kind = \"train\", preset = \"en1991_type7\" }",
+            )],
+            &[
+                "vehicles.0[1].model.representation = \"vehicles\"",
+                "en1991_type7",
+                "use representation = \"moving_forces\"",
+            ],
+        ),
+        Case::edit(
             "unknown car preset",
             &[Set(
                 "vehicles.0.model",

@@ -61,6 +61,10 @@ pub const SCHEMA_ACCEPTS: &[(&str, &str)] = &[
         "the bound is the car's wheelbase (half of it)",
     ),
     (
+        "a load model as vehicles",
+        "whether a preset has vehicle models is the preset's data, and the refused value is the default",
+    ),
+    (
         "centre of gravity outside the wheelbase",
         "the bound is the preset's wheelbase",
     ),
