@@ -91,6 +91,10 @@ fn combine(a: (f64, &SparseVec), b: (f64, &SparseVec), out: &mut SparseVec) {
     }
 }
 
+/// Entries reserved per contact for `alpha` (it grows once, on the first step, for a
+/// modal model with more modes).
+const ALPHA_CAPACITY: usize = 32;
+
 /// Per-contact data of one step.
 struct Contact {
     vehicle: usize,
@@ -296,7 +300,10 @@ impl<'a> CoupledSolver<'a> {
                         h: SparseVec::with_capacity(n),
                         h_slope: SparseVec::with_capacity(n),
                         z: DVector::zeros(n),
-                        alpha: SparseVec::with_capacity(2 * n),
+                        // A wheel's operator touches one element's 4 DOFs (12 over three
+                        // sleepers), a modal model's every mode: room for the usual
+                        // case without reserving twice the model per contact.
+                        alpha: SparseVec::with_capacity(2 * n.min(ALPHA_CAPACITY)),
                         kappa: 0.0,
                         c: 0.0,
                         rhs: 0.0,
