@@ -162,7 +162,10 @@ def test_ctrl_c_stops_the_run_and_keeps_a_partial(scratch):
     out = scratch / "long.mcap"
     script = textwrap.dedent(
         f"""
-        import sys, bridgetwin
+        import signal, sys, bridgetwin
+        # A child started from a background job inherits SIGINT ignored, and Python then
+        # installs no handler: put Ctrl-C's default back, as an interactive session has it.
+        signal.signal(signal.SIGINT, signal.default_int_handler)
         print("started", flush=True)
         try:
             bridgetwin.simulate(out={str(out)!r}, duration_s=100000.0, skip_space_check=True)
@@ -194,7 +197,10 @@ def test_ctrl_c_stops_the_run_and_keeps_a_partial(scratch):
 def test_ctrl_c_in_memory_hands_back_the_run_so_far():
     script = textwrap.dedent(
         """
-        import sys, bridgetwin
+        import signal, sys, bridgetwin
+        # A child started from a background job inherits SIGINT ignored, and Python then
+        # installs no handler: put Ctrl-C's default back, as an interactive session has it.
+        signal.signal(signal.SIGINT, signal.default_int_handler)
         print("started", flush=True)
         try:
             bridgetwin.simulate(duration_s=100000.0, skip_space_check=True)
