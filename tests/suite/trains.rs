@@ -370,19 +370,15 @@ fn triggered_records_keep_only_the_passages_and_report_each_train() {
             _ => None,
         })
         .collect();
-    let opened: Vec<&String> = events
-        .iter()
-        .filter(|e| e.contains("triggered record"))
-        .collect();
+    let containing =
+        |needle: &str| -> Vec<&String> { events.iter().filter(|e| e.contains(needle)).collect() };
+    let opened = containing("triggered record");
     assert_eq!(opened.len(), 2, "{events:?}");
     assert!(
         opened[0].contains("of 2") && opened[1].contains("vehicle 8 (train)"),
         "{opened:?}"
     );
-    let left: Vec<&String> = events
-        .iter()
-        .filter(|e| e.contains("leaves the bridge"))
-        .collect();
+    let left = containing("leaves the bridge");
     assert_eq!(left.len(), 2, "{events:?}");
     assert!(
         left[0].starts_with("vehicle 7 leaves the bridge (train/ice3, 32 wheelsets, 144 km/h)")

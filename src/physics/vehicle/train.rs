@@ -166,10 +166,20 @@ impl Train {
     /// The train as the solver sees it. A load model (`axles_only`) has no vehicles: it
     /// is refused as such, naming `representation`.
     pub fn build(&self, representation: Representation) -> Result<VehicleDynamics> {
+        self.build_for(representation, "representation")
+    }
+
+    /// [`Train::build`], its refusal of vehicles for a load model naming
+    /// `representation_field` (the scenario path of the choice).
+    pub fn build_for(
+        &self,
+        representation: Representation,
+        representation_field: &str,
+    ) -> Result<VehicleDynamics> {
         if let Some(axles) = &self.axles_only {
             if representation == Representation::Vehicles {
                 return Err(Error::invalid(
-                    "representation",
+                    representation_field,
                     "\"vehicles\"",
                     format!(
                         "is not available for {}: a load model, axle loads and geometry \

@@ -175,19 +175,7 @@ impl TrainSpec {
             RepresentationSpec::Vehicles => Representation::Vehicles,
             RepresentationSpec::MovingForces => Representation::MovingForces,
         };
-        if train.axles_only.is_some() && representation == Representation::Vehicles {
-            return Err(Error::invalid(
-                format!("{path}.representation"),
-                "\"vehicles\"",
-                format!(
-                    "(the default) is not available for {}: a load model, axle loads and \
-                     geometry only, with no published suspension for its vehicles; use \
-                     representation = \"moving_forces\"",
-                    self.preset.as_deref().unwrap_or_default()
-                ),
-            ));
-        }
-        train.build(representation)
+        train.build_for(representation, &format!("{path}.representation"))
     }
 
     /// The composition, car by car, each checked.
