@@ -5,7 +5,8 @@
 //! exactly once (a duplicated file makes Python's `mcap-protobuf-support` refuse it), so
 //! the set is cut per message here.
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
+use std::sync::{Mutex, OnceLock};
 
 use prost::Message;
 use prost_types::{FileDescriptorProto, FileDescriptorSet};
@@ -19,8 +20,33 @@ pub const ALL_DESCRIPTORS: &[u8] =
 
 /// Encoded `FileDescriptorSet` for the top-level message `full_name` (e.g.
 /// `bridgetwin.v1.AxleLoads`): its file and transitive imports, in dependency order.
+/// Cut once per process and message: a run registers its channels twice (the estimate's
+/// sizing, then the file), a sweep once per run, and decoding the whole set cost about
+/// 1 ms each time.
 pub fn self_contained_descriptor_set(full_name: &str) -> Result<Vec<u8>> {
-    let all = FileDescriptorSet::decode(ALL_DESCRIPTORS).map_err(|e| schema_error(full_name, e))?;
+    static CUT: OnceLock<Mutex<BTreeMap<String, Vec<u8>>>> = OnceLock::new();
+    let cut = CUT.get_or_init(Default::default);
+    // A poisoned lock only means another thread panicked mid-insert: the map holds
+    // finished sets, still valid.
+    let known = cut
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .get(full_name)
+        .cloned();
+    if let Some(data) = known {
+        return Ok(data);
+    }
+    let data = cut_descriptor_set(full_name)?;
+    let mut map = cut.lock().unwrap_or_else(|e| e.into_inner());
+    map.insert(full_name.to_owned(), data.clone());
+    Ok(data)
+}
+
+fn cut_descriptor_set(full_name: &str) -> Result<Vec<u8>> {
+    static ALL: OnceLock<std::result::Result<FileDescriptorSet, prost::DecodeError>> =
+        OnceLock::new();
+    let all = ALL.get_or_init(|| FileDescriptorSet::decode(ALL_DESCRIPTORS));
+    let all = all.as_ref().map_err(|e| schema_error(full_name, e))?;
     let defining = all
         .file
         .iter()
@@ -41,10 +67,9 @@ pub fn self_contained_descriptor_set(full_name: &str) -> Result<Vec<u8>> {
         stack.extend(file.dependency.iter().cloned());
     }
     // Filtering keeps the topological order of the full set.
-    let file = all
-        .file
-        .into_iter()
+    let file = (all.file.iter())
         .filter(|f| needed.contains(f.name()))
+        .cloned()
         .collect();
     Ok(FileDescriptorSet { file }.encode_to_vec())
 }

@@ -7,7 +7,7 @@
 use bridgetwin::physics::bridge::{
     BeamProperties, BridgeModel, ModelSpec, PointQuantity, SparseVec,
 };
-use bridgetwin::physics::road::{IsoClass, RoadProfile, RoadProfileSpec};
+use bridgetwin::physics::road::{IsoClass, LevelRoad, RoadProfile, RoadProfileSpec, RoadSurface};
 use bridgetwin::physics::solver::{
     vehicle_natural_frequencies_hz, ContactLaw, CoupledSolver, CoupledVehicle, DirectSolver,
     NewmarkCoefficients, NewmarkParams, SolveMode, Storage,
@@ -234,10 +234,28 @@ fn manchester_vehicle_modes_match_hand_estimates() {
     );
 }
 
+/// An ISO 8608 class A profile over `[from_m, to_m]` (seed 19).
+fn class_a_road(from_m: f64, to_m: f64) -> RoadProfile {
+    let mut rng = ChaCha8Rng::seed_from_u64(19);
+    RoadProfile::build(
+        &RoadProfileSpec::iso8608(IsoClass::A),
+        from_m,
+        to_m,
+        &mut rng,
+    )
+    .unwrap()
+}
+
+/// The paper's bridge in 16 finite elements, 2 % damping.
+fn paper_bridge() -> BridgeModel {
+    let beam = BeamProperties::paper_default();
+    BridgeModel::build(&beam, &ModelSpec::FiniteElement { elements: 16 }, 0.02).unwrap()
+}
+
 /// The coupled (low-rank) solver with sparse storage and full contact.
 fn low_rank_solver<'a>(
     model: &'a BridgeModel,
-    road: &'a dyn bridgetwin::physics::road::RoadSurface,
+    road: &'a dyn RoadSurface,
     coef: NewmarkCoefficients,
 ) -> CoupledSolver<'a> {
     let mode = SolveMode::Prefactored(Storage::Sparse);
@@ -248,20 +266,8 @@ fn low_rank_solver<'a>(
 /// differences of midspan deflection and wheel force relative to their peaks, and the
 /// number of blocks the coupled solver split the train into.
 fn split_vs_direct(name: &str) -> (f64, f64, usize) {
-    let model = BridgeModel::build(
-        &BeamProperties::paper_default(),
-        &ModelSpec::FiniteElement { elements: 16 },
-        0.02,
-    )
-    .unwrap();
-    let mut rng = ChaCha8Rng::seed_from_u64(19);
-    let road = RoadProfile::build(
-        &RoadProfileSpec::iso8608(IsoClass::A),
-        -100.0,
-        200.0,
-        &mut rng,
-    )
-    .unwrap();
+    let model = paper_bridge();
+    let road = class_a_road(-100.0, 200.0);
     let coef = NewmarkCoefficients::new(2e-3, NewmarkParams::default()).unwrap();
     let (start, speed) = (-10.0, 40.0);
     let dynamics = train(name, Representation::Vehicles);
@@ -307,6 +313,61 @@ fn an_articulated_rake_is_one_block_and_matches_the_direct_solver() {
     let (du, df, blocks) = split_vs_direct("hslm_a9");
     assert_eq!(blocks, 3, "power car, articulated rake, power car");
     assert!(du < 1e-8 && df < 1e-8, "deflection {du:e}, force {df:e}");
+}
+
+/// Runs `name` across the paper's bridge on `road` twice, skipping the step of the cars
+/// at rest on the approach and not, and returns the largest difference of any bridge DOF
+/// or tyre force between the two (bits, as f64 differences) and the block-steps skipped.
+fn resting_skip_vs_full_step(name: &str, road: &dyn RoadSurface) -> (f64, u64) {
+    let model = paper_bridge();
+    let coef = NewmarkCoefficients::new(2e-3, NewmarkParams::default()).unwrap();
+    let dynamics = train(name, Representation::Vehicles);
+    let (start, speed) = (-10.0, 60.0);
+    let mut runs: Vec<CoupledSolver> = [true, false]
+        .into_iter()
+        .map(|skip| {
+            let mut solver = low_rank_solver(&model, road, coef);
+            solver.rest_skip = skip;
+            solver.add_vehicle(CoupledVehicle::new(1, dynamics.clone(), speed, start, 0));
+            solver
+        })
+        .collect();
+    let steps = ((30.0 + dynamics.wheelbase_m() - start) / speed / coef.dt_s) as usize;
+    let mut worst = 0.0f64;
+    for _ in 0..steps {
+        for solver in &mut runs {
+            solver.advance().unwrap();
+        }
+        let (a, b) = (&runs[0], &runs[1]);
+        let bridge = (a.bridge.state.u.iter()).zip(b.bridge.state.u.iter());
+        let tyres = (a.vehicles[0].contact_force_n.iter()).zip(&b.vehicles[0].contact_force_n);
+        let vehicle = (a.vehicles[0].state.a.iter()).zip(b.vehicles[0].state.a.iter());
+        for (x, y) in bridge.chain(tyres).chain(vehicle) {
+            assert_eq!(x.to_bits(), y.to_bits(), "{name}: {x:e} against {y:e}");
+            worst = worst.max((x - y).abs());
+        }
+    }
+    assert_eq!(
+        runs[1].resting_block_steps, 0,
+        "the full step skips nothing"
+    );
+    (worst, runs[0].resting_block_steps)
+}
+
+#[test]
+fn cars_at_rest_on_a_level_approach_skip_their_step_and_change_no_bit() {
+    // On a level road the cars behind the span stay exactly at rest until a tyre reaches
+    // it: skipping them must give the same bits as stepping them (asserted every step).
+    let (_, skipped) = resting_skip_vs_full_step("ice3", &LevelRoad);
+    // ICE 3: eight cars, 200 m; most of them wait on the approach for seconds.
+    assert!(
+        skipped > 2000,
+        "the waiting cars must be skipped: {skipped}"
+    );
+    // On an irregular track every tyre is excited from the first step: nothing rests.
+    let rough = class_a_road(-300.0, 300.0);
+    let (_, skipped) = resting_skip_vs_full_step("ice3", &rough);
+    assert_eq!(skipped, 0);
 }
 
 /// Two trains 60 s apart over a 30 m span, triggered records 2 s before and after each.

@@ -121,12 +121,16 @@ fn auto_phases(cutoff: f64, attenuation_db: f64) -> usize {
 /// The polyphase table; see the module doc.
 #[derive(Debug, Clone)]
 pub(crate) struct PolyphaseKernel {
+    kaiser: Kaiser,
     half_width: usize,
     phases: usize,
-    /// `phases + 1` rows of `2 half_width + 1` weights. Row `p` is the offset
-    /// `frac = p / phases`; weight `j` multiplies solver sample `n0 - half_width + j`,
-    /// at distance `x = frac + half_width - j` from the output instant.
-    table: Vec<f64>,
+    /// `phases + 1` rows of `2 half_width + 1` weights, each built on first use. Row `p`
+    /// is the offset `frac = p / phases`; weight `j` multiplies solver sample
+    /// `n0 - half_width + j`, at distance `x = frac + half_width - j` from the output
+    /// instant. A channel whose output instants fall on solver samples reads one row (a
+    /// 200 Hz channel of a 1 kHz run with no clock error); building all ~500 rows up front
+    /// took longer than the loop of a short run.
+    table: Vec<OnceLock<Box<[f64]>>>,
 }
 
 impl PolyphaseKernel {
@@ -140,8 +144,8 @@ impl PolyphaseKernel {
     }
 
     /// The kernel of `design`, built once per process and shared: sensors with the same
-    /// rate (and every run of a sweep) use one table. Building costs phases x taps Bessel
-    /// and sine evaluations, which dominated short runs with many sensors.
+    /// rate (and every run of a sweep) use one table, and a row built for one is built
+    /// for all. Each row costs taps Bessel and sine evaluations.
     pub(crate) fn shared(design: &KaiserDesign) -> Arc<Self> {
         /// Distinct designs kept; the oldest is dropped beyond this (runs use a handful).
         const CAPACITY: usize = 16;
@@ -171,28 +175,31 @@ impl PolyphaseKernel {
     pub(crate) fn new(design: &KaiserDesign) -> Self {
         let kaiser = Kaiser::new(design);
         let (half_width, phases) = Self::planned_size(design);
-        let width = 2 * half_width + 1;
-        // Every weight sits at x = frac + L - j = i / P for an integer i with |i| <= (L + 1) P,
-        // and h is even: each distinct |x| is evaluated once (half the table's Bessel and
-        // sine evaluations). With P a power of two both forms of x are exact, so the
-        // weights are the same bits as evaluating each entry.
-        let grid: Vec<f64> = (0..=(half_width + 1) * phases)
-            .map(|i| kaiser.eval(i as f64 / phases as f64))
-            .collect();
-        let mut table = vec![0.0; (phases + 1) * width];
-        for (p, row) in table.chunks_exact_mut(width).enumerate() {
-            for (j, w) in row.iter_mut().enumerate() {
-                let i = p as i64 + (half_width as i64 - j as i64) * phases as i64;
-                *w = grid[i.unsigned_abs() as usize];
-            }
-            let sum: f64 = row.iter().sum();
-            row.iter_mut().for_each(|w| *w /= sum);
-        }
         Self {
+            kaiser,
             half_width,
             phases,
-            table,
+            table: (0..=phases).map(|_| OnceLock::new()).collect(),
         }
+    }
+
+    /// Row `p` of the table (built on first use), normalised to unit sum. Every weight sits
+    /// at `x = frac + L - j = i / P` for an integer `i`, evaluated at `|i| / P`: with `P` a
+    /// power of two that is exact, so the weights are the same bits as `h(x)` at each
+    /// entry, and `h` is even bit for bit.
+    fn row(&self, p: usize) -> &[f64] {
+        self.table[p].get_or_init(|| {
+            let (half_width, phases) = (self.half_width as i64, self.phases as i64);
+            let mut row: Box<[f64]> = (0..self.taps() as i64)
+                .map(|j| {
+                    let i = p as i64 + (half_width - j) * phases;
+                    self.kaiser.eval(i.unsigned_abs() as f64 / phases as f64)
+                })
+                .collect();
+            let sum: f64 = row.iter().sum();
+            row.iter_mut().for_each(|w| *w /= sum);
+            row
+        })
     }
 
     /// `L`: samples needed on each side of the output instant.
@@ -214,8 +221,7 @@ impl PolyphaseKernel {
     #[cfg(test)]
     pub(crate) fn weight(&self, frac: f64, j: usize) -> f64 {
         let (p, mu) = self.phase(frac);
-        let width = self.taps();
-        (1.0 - mu) * self.table[p * width + j] + mu * self.table[(p + 1) * width + j]
+        (1.0 - mu) * self.row(p)[j] + mu * self.row(p + 1)[j]
     }
 
     fn phase(&self, frac: f64) -> (usize, f64) {
@@ -227,15 +233,12 @@ impl PolyphaseKernel {
     /// Filtered value at `frac` after the centre sample of `samples`, which holds the
     /// `2 L + 1` solver samples `n0 - L ..= n0 + L`. O(taps), no allocation.
     pub(crate) fn apply(&self, frac: f64, samples: &[f64]) -> f64 {
-        let width = self.taps();
         let (p, mu) = self.phase(frac);
-        let lo = &self.table[p * width..(p + 1) * width];
-        let y_lo = dot(lo, samples);
+        let y_lo = dot(self.row(p), samples);
         if mu == 0.0 {
             return y_lo;
         }
-        let hi = &self.table[(p + 1) * width..(p + 2) * width];
-        (1.0 - mu) * y_lo + mu * dot(hi, samples)
+        (1.0 - mu) * y_lo + mu * dot(self.row(p + 1), samples)
     }
 }
 

@@ -24,6 +24,7 @@ pub use super::coupled_vehicle::CoupledVehicle;
 use super::coupled_vehicle::MAX_TYRES_PER_BLOCK;
 use super::linear::SmallLu;
 use super::newmark::{Newmark, NewmarkCoefficients, SolveMode};
+use crate::base::dot::add_columns;
 use crate::error::{Error, Result};
 use crate::physics::bridge::{BridgeModel, PointQuantity, SparseVec};
 use crate::physics::road::RoadSurface;
@@ -112,9 +113,11 @@ struct Contact {
     /// empty off the span.
     alpha: SparseVec,
     kappa: f64,
-    c: f64,
     rhs: f64,
     active: bool,
+    /// Road elevation (m) and slope under the tyre.
+    road_m: f64,
+    road_slope: f64,
 }
 
 /// The coupled system: one bridge and the vehicles on its road.
@@ -136,6 +139,11 @@ pub struct CoupledSolver<'a> {
     /// operators become that weighted sum, so the wheel also rides on the weighted
     /// deflection (the coupling stays symmetric). `None`: at the contact point.
     pub sleeper_spacing_m: Option<f64>,
+    /// Whether vehicle blocks at rest on a level road off the span skip their step (the
+    /// same bits: see [`CoupledVehicle::mark_resting`]); `false` only to check that.
+    pub rest_skip: bool,
+    /// Block-steps skipped that way since the start.
+    pub resting_block_steps: u64,
     spread_scratch: SparseVec,
     road: &'a dyn RoadSurface,
     contacts: Vec<Contact>,
@@ -193,6 +201,8 @@ impl<'a> CoupledSolver<'a> {
             step: 0,
             retire_after_m: 50.0,
             sleeper_spacing_m: None,
+            rest_skip: true,
+            resting_block_steps: 0,
             spread_scratch: SparseVec::with_capacity(8),
             road,
             contacts: Vec::new(),
@@ -305,9 +315,10 @@ impl<'a> CoupledSolver<'a> {
                         // case without reserving twice the model per contact.
                         alpha: SparseVec::with_capacity(2 * n.min(ALPHA_CAPACITY)),
                         kappa: 0.0,
-                        c: 0.0,
                         rhs: 0.0,
                         active: true,
+                        road_m: 0.0,
+                        road_slope: 0.0,
                     });
                 }
                 let c = &mut self.contacts[count];
@@ -367,15 +378,10 @@ impl<'a> CoupledSolver<'a> {
             if contact.on_span {
                 match &self.inverse_columns {
                     Some(columns) => {
-                        // The first column scaled, then the others added: no zero fill.
-                        let mut terms = contact.h.idx.iter().zip(&contact.h.val);
-                        match terms.next() {
-                            Some((&k, &w)) => contact.z.zip_apply(&columns[k], |z, c| *z = w * c),
-                            None => contact.z.fill(0.0),
-                        }
-                        for (&k, &w) in terms {
-                            contact.z.axpy(w, &columns[k], 1.0);
-                        }
+                        let h = &contact.h;
+                        add_columns(contact.z.as_mut_slice(), true, || {
+                            (h.val.iter().zip(&h.idx)).map(|(&w, &k)| (w, columns[k].as_slice()))
+                        });
                     }
                     None => {
                         contact.z.fill(0.0);
@@ -390,6 +396,7 @@ impl<'a> CoupledSolver<'a> {
     /// y0 = K_eff,v^-1 (vehicle history), and the known parts of each tyre force.
     fn prepare_vehicles(&mut self) {
         let c = self.bridge.coefficients;
+        self.mark_resting_blocks();
         for v in &mut self.vehicles {
             if v.active && v.dynamics.n_dof() > 0 {
                 v.predict();
@@ -402,7 +409,6 @@ impl<'a> CoupledSolver<'a> {
             contact.alpha.clear();
             let Some(dof) = axle.dof else {
                 contact.kappa = 0.0;
-                contact.c = 0.0;
                 contact.rhs = 0.0;
                 continue;
             };
@@ -412,8 +418,12 @@ impl<'a> CoupledSolver<'a> {
                 v.velocity_m_s(),
             );
             contact.kappa = kt + c.a1 * ct;
+            if v.stays_at_rest(contact.axle) {
+                contact.rhs = 0.0;
+                continue;
+            }
             let beta_y = -c.a1 * v.state.u[dof] - c.a4 * v.state.v[dof] - c.a5 * v.state.a[dof];
-            let (r, r_slope) = self.road.elevation_and_slope(contact.x_m);
+            let (r, r_slope) = (contact.road_m, contact.road_slope);
             let mut known = kt * r + ct * speed * r_slope - ct * beta_y;
             let mut alpha_u0 = 0.0;
             if contact.on_span {
@@ -427,8 +437,33 @@ impl<'a> CoupledSolver<'a> {
                 );
                 alpha_u0 = contact.alpha.dot(u0);
             }
-            contact.c = known;
             contact.rhs = alpha_u0 - contact.kappa * v.y0[dof] + known;
+        }
+    }
+
+    /// The road under every tyre, and the vehicle blocks this step leaves at rest (see
+    /// [`CoupledVehicle::mark_resting`]): a long train's cars on a level approach cost
+    /// nothing until their first tyre reaches the span or an irregularity.
+    fn mark_resting_blocks(&mut self) {
+        for contact in &mut self.contacts {
+            (contact.road_m, contact.road_slope) = self.road.elevation_and_slope(contact.x_m);
+        }
+        let mut first = 0;
+        for (vi, v) in self.vehicles.iter_mut().enumerate() {
+            if !v.active {
+                continue;
+            }
+            // Contacts are gathered vehicle by vehicle, axle by axle.
+            let axles = v.dynamics.axles.len();
+            let own = &self.contacts[first..first + axles];
+            debug_assert!(own.iter().all(|c| c.vehicle == vi));
+            let excited = (own.iter().enumerate())
+                .filter(|(_, c)| {
+                    !self.rest_skip || c.on_span || c.road_m != 0.0 || c.road_slope != 0.0
+                })
+                .map(|(j, _)| j);
+            self.resting_block_steps += v.mark_resting(excited) as u64;
+            first += axles;
         }
     }
 

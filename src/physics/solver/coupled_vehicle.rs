@@ -10,7 +10,7 @@
 use nalgebra::{DMatrix, DVector};
 
 use super::newmark::{NewmarkCoefficients, State};
-use crate::base::dot::dot;
+use crate::base::dot::{dot, dots};
 use crate::error::{Error, Result};
 use crate::physics::road::RoadSurface;
 use crate::physics::vehicle::VehicleDynamics;
@@ -41,6 +41,12 @@ struct Block {
     /// then with the tyre forces' response).
     gathered: Vec<f64>,
     history: Vec<f64>,
+    /// Whether the block has not moved yet: every DOF's displacement, velocity and
+    /// acceleration exactly zero since it appeared (a car on a level approach).
+    at_rest: bool,
+    /// This step's decision: at rest, and every tyre off the span on a level road, so the
+    /// step leaves it at rest (see [`CoupledVehicle::stays_at_rest`]).
+    resting: bool,
 }
 
 /// A vehicle on the road, with its own Newmark state.
@@ -201,6 +207,11 @@ impl CoupledVehicle {
                 contact_inverse: Vec::new(),
                 gathered: vec![0.0; 3 * m],
                 history: vec![0.0; m],
+                at_rest: dofs.iter().all(|&i| {
+                    let s = &self.state;
+                    s.u[i] == 0.0 && s.v[i] == 0.0 && s.a[i] == 0.0
+                }),
+                resting: false,
                 dofs,
             });
             factors.push(factor);
@@ -280,6 +291,29 @@ impl CoupledVehicle {
         self.block_of_axle[j]
     }
 
+    /// Marks, for this step, the blocks that stay at rest: at rest so far and with no tyre
+    /// in `excited` (a tyre on the span, or on a road with elevation or slope under it).
+    /// Such a block's history is zero and so are its tyres' right-hand sides and dynamic
+    /// forces: [`Self::predict`] and [`Self::finish_step`] skip it, and its state stays
+    /// the exact zeros the full step would compute (`+0.0`: every product with a zero
+    /// state or a zero road is summed onto a `+0.0` start). Returns how many blocks rest.
+    pub(super) fn mark_resting(&mut self, excited: impl Iterator<Item = usize>) -> usize {
+        for block in &mut self.blocks {
+            block.resting = block.at_rest;
+        }
+        for axle in excited {
+            if let Some((b, _)) = self.block_of_axle[axle] {
+                self.blocks[b].resting = false;
+            }
+        }
+        self.blocks.iter().filter(|b| b.resting).count()
+    }
+
+    /// Whether axle `j`'s block was marked resting this step ([`Self::mark_resting`]).
+    pub(super) fn stays_at_rest(&self, j: usize) -> bool {
+        self.block_of_axle[j].is_some_and(|(b, _)| self.blocks[b].resting)
+    }
+
     /// y0 = K_eff,v^-1 (history): the displacement with no dynamic tyre force.
     pub(super) fn predict(&mut self) {
         let (u, v, a) = (
@@ -287,7 +321,7 @@ impl CoupledVehicle {
             self.state.v.as_slice(),
             self.state.a.as_slice(),
         );
-        for block in &mut self.blocks {
+        for block in self.blocks.iter_mut().filter(|b| !b.resting) {
             // K_eff^-1 (M (a0 u + a2 v + a3 a) + C (a1 u + a4 v + a5 a)), block by block.
             let m = block.dofs.len();
             let (gu, rest) = block.gathered.split_at_mut(m);
@@ -295,10 +329,9 @@ impl CoupledVehicle {
             for (((&dof, gu), gv), ga) in block.dofs.iter().zip(gu).zip(gv).zip(ga) {
                 (*gu, *gv, *ga) = (u[dof], v[dof], a[dof]);
             }
-            let rows = block.propagator.chunks_exact(3 * m);
-            for ((y, row), &dof) in block.history.iter_mut().zip(rows).zip(&block.dofs) {
-                *y = dot(row, &block.gathered);
-                self.y0[dof] = *y;
+            propagate(&block.propagator, &block.gathered, &mut block.history);
+            for (&y, &dof) in block.history.iter().zip(&block.dofs) {
+                self.y0[dof] = y;
             }
         }
     }
@@ -312,7 +345,8 @@ impl CoupledVehicle {
             self.state.v.as_mut_slice(),
             self.state.a.as_mut_slice(),
         );
-        for block in &mut self.blocks {
+        for block in self.blocks.iter_mut().filter(|b| !b.resting) {
+            block.at_rest = false;
             for (&axle, w) in block.tyres.iter().zip(&block.w) {
                 let f = dynamic_force_n[axle];
                 for (y, &wi) in block.history.iter_mut().zip(w.as_slice()) {
@@ -324,6 +358,27 @@ impl CoupledVehicle {
                 v[i] += c.dt_s * ((1.0 - c.gamma) * a[i] + c.gamma * a_next);
                 a[i] = a_next;
                 u[i] = y_next;
+            }
+        }
+    }
+}
+
+/// `y = P g` for the row-major `P` (`y.len()` rows of `g.len()`), four rows at a time
+/// (each row's sum is [`dot`]'s, so the bits do not depend on the grouping).
+fn propagate(p: &[f64], g: &[f64], y: &mut [f64]) {
+    let w = g.len();
+    let mut rows = p.chunks_exact(w);
+    let mut outputs = y.chunks_mut(4);
+    for out in &mut outputs {
+        match out.len() {
+            4 => {
+                let r: [&[f64]; 4] = std::array::from_fn(|_| rows.next().unwrap_or_default());
+                out.copy_from_slice(&dots(r, g));
+            }
+            _ => {
+                for y in out {
+                    *y = dot(rows.next().unwrap_or_default(), g);
+                }
             }
         }
     }

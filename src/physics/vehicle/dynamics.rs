@@ -176,8 +176,10 @@ impl VehicleDynamics {
                 rhs[d] += axle.tyre_stiffness_n_m * r;
             }
         }
-        if n == 0 {
-            return rhs;
+        // A level road (every tyre at zero elevation): the equilibrium is the origin, with
+        // no factorization (a 16-car train's stiffness is 160 x 160).
+        if n == 0 || rhs.iter().all(|&f| f == 0.0) {
+            return DVector::zeros(n);
         }
         self.stiffness_with_tyres()
             .lu()
