@@ -5,6 +5,7 @@
 /// `a . b` over the shorter length, with four independent partial sums: a single running
 /// sum would make every term wait for the previous addition, and four lanes let the
 /// compiler use SIMD registers.
+#[inline]
 pub fn dot(a: &[f64], b: &[f64]) -> f64 {
     let n = a.len().min(b.len());
     let (a, b) = (&a[..n], &b[..n]);
@@ -28,6 +29,7 @@ pub fn dot(a: &[f64], b: &[f64]) -> f64 {
 /// (the same bits), interleaved: one row's partial sums wait on their own additions, so
 /// several rows at once keep the adder busy where a short row alone would leave it idle
 /// (a vehicle block's rows are 30 long).
+#[inline]
 pub fn dots<const R: usize>(rows: [&[f64]; R], b: &[f64]) -> [f64; R] {
     let n = rows.iter().fold(b.len(), |n, row| n.min(row.len()));
     let whole = n - n % 4;
@@ -57,6 +59,7 @@ pub fn dots<const R: usize>(rows: [&[f64]; R], b: &[f64]) -> [f64; R] {
 /// order: the bits of successive axpys `out = w_t c_t + out`, in one pass over `out`
 /// (eight entries stay in registers across the terms instead of one load and store per
 /// term). `terms` is called once per eight entries; each `c_t` is at least as long as `out`.
+#[inline]
 pub fn add_columns<'a, I>(out: &mut [f64], overwrite: bool, terms: impl Fn() -> I)
 where
     I: Iterator<Item = (f64, &'a [f64])>,

@@ -61,6 +61,7 @@ pub fn element_consistent_mass(mass_per_length_kg_m: f64, length_m: f64) -> Elem
 
 /// Cubic shape functions at local coordinate `xi = (x - x_i) / l` in [0, 1].
 /// w(x) = N . (w_i, theta_i, w_j, theta_j).
+#[inline]
 pub fn shape(xi: f64, length_m: f64) -> ShapeValues {
     let l = length_m;
     let (x2, x3) = (xi * xi, xi * xi * xi);
@@ -73,6 +74,7 @@ pub fn shape(xi: f64, length_m: f64) -> ShapeValues {
 }
 
 /// dN/dx at `xi` (slope of the interpolated deflection).
+#[inline]
 pub fn shape_dx(xi: f64, length_m: f64) -> ShapeValues {
     let l = length_m;
     let x2 = xi * xi;

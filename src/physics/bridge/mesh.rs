@@ -113,6 +113,7 @@ impl HermiteMesh {
     }
 
     /// Equation numbers of the element's four DOFs.
+    #[inline]
     fn element_dofs(&self, e: usize) -> [Option<usize>; 4] {
         let (a, b) = (self.dof[e], self.dof[e + 1]);
         [a[0], a[1], b[0], b[1]]
@@ -168,6 +169,7 @@ impl HermiteMesh {
     }
 
     /// The element containing `x_m` (clamped to the girder) and the local coordinate.
+    #[inline]
     pub fn locate(&self, x_m: f64) -> (usize, f64) {
         let last = self.elements.len() - 1;
         // partition_point: number of nodes <= x; the element starts at the node before.
@@ -181,12 +183,31 @@ impl HermiteMesh {
     }
 
     /// Fills `out` with the weights of `quantity` at `x_m` over the free DOFs.
+    #[inline]
     pub fn point_operator(&self, x_m: f64, quantity: PointQuantity, out: &mut SparseVec) {
         out.clear();
         self.for_each_weight(x_m, quantity, |dof, w| out.push(dof, w));
     }
 
+    /// `[deflection, slope]` operators at `x_m` (as two [`Self::point_operator`] calls,
+    /// locating the element once: every wheel on the span needs both, every step).
+    #[inline]
+    pub fn wheel_operators(&self, x_m: f64, [deflection, slope]: [&mut SparseVec; 2]) {
+        let (e, xi) = self.locate(x_m);
+        let length_m = self.elements[e].length_m;
+        let (w, dw) = (shape(xi, length_m), shape_dx(xi, length_m));
+        deflection.clear();
+        slope.clear();
+        for (k, dof) in self.element_dofs(e).iter().enumerate() {
+            if let Some(d) = *dof {
+                deflection.push(d, w[k]);
+                slope.push(d, dw[k]);
+            }
+        }
+    }
+
     /// Calls `f(dof, weight)` for the (at most four) free DOFs that carry `quantity` at `x_m`.
+    #[inline]
     pub fn for_each_weight(
         &self,
         x_m: f64,

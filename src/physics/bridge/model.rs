@@ -308,6 +308,7 @@ impl BridgeModel {
     }
 
     /// True when `x_m` lies on the girder.
+    #[inline]
     pub fn on_girder(&self, x_m: f64) -> bool {
         (0.0..=self.beam.length_m()).contains(&x_m)
     }
@@ -317,6 +318,7 @@ impl BridgeModel {
     /// For `Deflection` this is both the read-back `w(x) = h . u` and the consistent load
     /// vector `h P` of a force P at x (the two are transposes of each other, which keeps
     /// the coupled system's work balance exact).
+    #[inline]
     pub fn point_operator(&self, x_m: f64, quantity: PointQuantity, out: &mut SparseVec) {
         out.clear();
         if !self.on_girder(x_m) {
@@ -338,6 +340,24 @@ impl BridgeModel {
                         .sum();
                     out.push(j, v);
                 }
+            }
+        }
+    }
+
+    /// The deflection and slope operators at `x_m`: the two [`BridgeModel::point_operator`]
+    /// calls, the element located once on a finite-element model.
+    #[inline]
+    pub fn deflection_and_slope_operators(
+        &self,
+        x_m: f64,
+        deflection: &mut SparseVec,
+        slope: &mut SparseVec,
+    ) {
+        match (&self.reduction, self.on_girder(x_m)) {
+            (Reduction::Identity, true) => self.mesh.wheel_operators(x_m, [deflection, slope]),
+            _ => {
+                self.point_operator(x_m, PointQuantity::Deflection, deflection);
+                self.point_operator(x_m, PointQuantity::Slope, slope);
             }
         }
     }

@@ -20,12 +20,14 @@ impl SparseVec {
     }
 
     /// Removes all entries, keeping the capacity.
+    #[inline]
     pub fn clear(&mut self) {
         self.idx.clear();
         self.val.clear();
     }
 
     /// Appends one entry (indices may repeat; they add up).
+    #[inline]
     pub fn push(&mut self, index: usize, value: f64) {
         self.idx.push(index);
         self.val.push(value);
@@ -42,6 +44,7 @@ impl SparseVec {
     }
 
     /// `self . x`.
+    #[inline]
     pub fn dot(&self, x: &DVector<f64>) -> f64 {
         self.idx
             .iter()
@@ -51,6 +54,7 @@ impl SparseVec {
     }
 
     /// `y += alpha * self`.
+    #[inline]
     pub fn add_scaled_to(&self, alpha: f64, y: &mut DVector<f64>) {
         for (&i, &v) in self.idx.iter().zip(&self.val) {
             y[i] += alpha * v;

@@ -296,6 +296,7 @@ impl RoadProfile {
 
     /// Elevation (m) and slope dr/dx at `x_m`; clamped outside the range (end value, zero
     /// slope).
+    #[inline]
     pub fn elevation_and_slope(&self, x_m: f64) -> (f64, f64) {
         let (lo, hi) = self.x_range_m();
         let xc = x_m.clamp(lo, hi);

@@ -340,6 +340,10 @@ impl<'a> CoupledSolver<'a> {
                     c.h_slope.clear();
                     continue;
                 }
+                if spread.is_none() {
+                    (self.model).deflection_and_slope_operators(c.x_m, &mut c.h, &mut c.h_slope);
+                    continue;
+                }
                 let scratch = &mut self.spread_scratch;
                 load_operator(
                     &self.model,

@@ -111,6 +111,7 @@ impl CoupledVehicle {
     }
 
     /// Position of axle `j` at step `step` (m).
+    #[inline]
     pub fn axle_x_m(&self, j: usize, step: u64, dt_s: f64) -> f64 {
         let travelled = self.speed_m_s * (step.saturating_sub(self.entry_step)) as f64 * dt_s;
         self.start_front_x_m + self.direction * (travelled - self.dynamics.axles[j].offset_m)
@@ -123,6 +124,7 @@ impl CoupledVehicle {
     }
 
     /// Signed velocity along x (m/s): what the road slope under a tyre is multiplied by.
+    #[inline]
     pub fn velocity_m_s(&self) -> f64 {
         self.direction * self.speed_m_s
     }
@@ -256,6 +258,7 @@ impl CoupledVehicle {
 
     /// `(K_eff,v^-1)` between two tyre DOFs of block `block` (by their places, see
     /// [`Self::tyre_place`]): how much a unit force on tyre `tk` moves tyre `tj`'s DOF.
+    #[inline]
     pub(super) fn block_coupling(&self, block: usize, tj: usize, tk: usize) -> f64 {
         let b = &self.blocks[block];
         b.coupling[tj + b.tyres.len() * tk]
@@ -263,11 +266,14 @@ impl CoupledVehicle {
 
     /// The dynamic tyre forces of block `block` off the span, every tyre in contact:
     /// `forces[i]` holds the right-hand side of tyre place i and receives its force.
+    #[inline]
     pub(super) fn solve_off_span(&self, block: usize, forces: &mut [f64]) {
         let b = &self.blocks[block];
         let t = b.tyres.len();
         let mut rhs = [0.0; MAX_TYRES_PER_BLOCK];
-        rhs[..t].copy_from_slice(forces);
+        for (r, &f) in rhs.iter_mut().zip(forces.iter()) {
+            *r = f;
+        }
         for (i, f) in forces.iter_mut().enumerate() {
             *f = (0..t).map(|k| b.contact_inverse[i + t * k] * rhs[k]).sum();
         }
@@ -275,18 +281,21 @@ impl CoupledVehicle {
 
     /// `(I + kappa G)^-1` of block `block` between its tyre places `tj` and `tk` (blocks
     /// of at most [`MAX_TYRES_PER_BLOCK`] tyres).
+    #[inline]
     pub(super) fn contact_inverse(&self, block: usize, tj: usize, tk: usize) -> f64 {
         let b = &self.blocks[block];
         b.contact_inverse[tj + b.tyres.len() * tk]
     }
 
     /// Tyres of block `block`.
+    #[inline]
     pub(super) fn block_tyres(&self, block: usize) -> usize {
         self.blocks[block].tyres.len()
     }
 
     /// Axle `j`'s block and its tyre's place among the block's tyres (`None`: a moving
     /// force).
+    #[inline]
     pub(super) fn tyre_place(&self, j: usize) -> Option<(usize, usize)> {
         self.block_of_axle[j]
     }
@@ -309,7 +318,14 @@ impl CoupledVehicle {
         self.blocks.iter().filter(|b| b.resting).count()
     }
 
+    /// Whether block `block` was marked resting this step ([`Self::mark_resting`]).
+    #[inline]
+    pub(super) fn is_resting(&self, block: usize) -> bool {
+        self.blocks[block].resting
+    }
+
     /// Whether axle `j`'s block was marked resting this step ([`Self::mark_resting`]).
+    #[inline]
     pub(super) fn stays_at_rest(&self, j: usize) -> bool {
         self.block_of_axle[j].is_some_and(|(b, _)| self.blocks[b].resting)
     }
@@ -373,7 +389,10 @@ fn propagate(p: &[f64], g: &[f64], y: &mut [f64]) {
         match out.len() {
             4 => {
                 let r: [&[f64]; 4] = std::array::from_fn(|_| rows.next().unwrap_or_default());
-                out.copy_from_slice(&dots(r, g));
+                // Element by element: a slice copy of a run-time length calls memcpy.
+                for (y, d) in out.iter_mut().zip(dots(r, g)) {
+                    *y = d;
+                }
             }
             _ => {
                 for y in out {

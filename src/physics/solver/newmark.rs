@@ -102,6 +102,7 @@ impl NewmarkCoefficients {
     }
 
     /// Acceleration at n+1 from the new displacement.
+    #[inline]
     pub fn acceleration(&self, u_next: f64, u: f64, v: f64, a: f64) -> f64 {
         self.a0 * (u_next - u) - self.a2 * v - self.a3 * a
     }

@@ -133,6 +133,9 @@ impl CoupledSolver<'_> {
         if !whole || !in_order || members.iter().any(|&(_, j)| !self.contacts[j].active) {
             return false;
         }
+        if v.is_resting(block) {
+            return true; // zero right-hand sides, zero forces (already in `forces`)
+        }
         let mut forces = [0.0; MAX_TYRES_PER_BLOCK];
         for (f, &(_, j)) in forces.iter_mut().zip(members) {
             *f = self.forces[j];
@@ -167,40 +170,43 @@ impl CoupledSolver<'_> {
             let (v, t) = (&self.vehicles[run.vehicle], run.tyres);
             v.solve_off_span(run.block, &mut y[run.start..run.start + t]);
         }
-        // S (s x s, column-major): S_ab = alpha_a . Z_b.
+        // S (s x s, row-major): S_ab = alpha_a . Z_b.
         let mut bridge = std::mem::take(&mut self.bridge_terms);
         bridge.clear();
-        for &pb in &on {
-            let zb = &self.contacts[members[pb].1].z;
+        for &pa in &on {
+            let alpha = &self.contacts[members[pa].1].alpha;
             bridge.extend(
                 on.iter()
-                    .map(|&pa| self.contacts[members[pa].1].alpha.dot(zb)),
+                    .map(|&pb| alpha.dot(&self.contacts[members[pb].1].z)),
             );
         }
-        // I + C S: C_ac is D^-1 of a's block between a and c (the tyres of that block on
-        // the span are a run of `on`), 0 across blocks.
+        // I + C S (row-major): C_ac is D^-1 of a's block between a and c (the tyres of
+        // that block on the span are a run of `on`), 0 across blocks, so row a is e_a plus
+        // a few rows of S.
         let mut entries = std::mem::take(&mut self.entries);
         entries.clear();
         entries.resize(s * s, 0.0);
         let mut g = std::mem::take(&mut self.push_through);
         g.clear();
-        for (a, &pa) in on.iter().enumerate() {
+        for ((a, &pa), row) in on.iter().enumerate().zip(entries.chunks_exact_mut(s)) {
             g.push(y[pa]);
-            entries[a + s * a] = 1.0;
+            row[a] = 1.0;
             let run = &runs[self.run_of[pa]];
             let v = &self.vehicles[run.vehicle];
             for c in run.on_first..run.on_end {
                 let d_ac = v.contact_inverse(run.block, pa - run.start, on[c] - run.start);
-                for b in 0..s {
-                    entries[a + s * b] += d_ac * bridge[c + s * b];
+                for (e, &s_cb) in row.iter_mut().zip(&bridge[c * s..(c + 1) * s]) {
+                    *e += d_ac * s_cb;
                 }
             }
         }
-        self.lu.solve(s, |i, j| entries[i + j * s], &mut g);
+        self.lu.solve(s, |i, j| entries[i * s + j], &mut g);
         // f = y - D^-1 E (S g).
         let mut load = std::mem::take(&mut self.load_on_span);
         load.clear();
-        load.extend((0..s).map(|a| (0..s).map(|b| bridge[a + s * b] * g[b]).sum::<f64>()));
+        load.extend(
+            (bridge.chunks_exact(s)).map(|row| row.iter().zip(&g).map(|(s, g)| s * g).sum::<f64>()),
+        );
         for run in &runs {
             let v = &self.vehicles[run.vehicle];
             for p in run.start..run.start + run.tyres {
