@@ -67,6 +67,11 @@ const PINNED: &[(&str, f64, &str)] = &[
         "142beca910820d7ac3413d40af0acca3314c922946ccc7d9bc117d6033692adb",
     ),
     (
+        "long_train_three_spans",
+        3.0,
+        "87d9ccba27041b4758b17675fd37e4f75340b4386f5cdbc2dc09efebb7b9504d",
+    ),
+    (
         "",
         0.0,
         "c7b773c861ac8cd5b757aeef8f9ff31c18f7cdcd273521af9fbd49f53f2fb0f1",
