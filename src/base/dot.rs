@@ -31,6 +31,8 @@ pub fn dot(a: &[f64], b: &[f64]) -> f64 {
 /// (a vehicle block's rows are 30 long).
 #[inline]
 pub fn dots<const R: usize>(rows: [&[f64]; R], b: &[f64]) -> [f64; R] {
+    // Rows of unequal lengths would each be cut to the shortest, unlike `dot`.
+    debug_assert!(rows.iter().all(|row| row.len() == rows[0].len()));
     let n = rows.iter().fold(b.len(), |n, row| n.min(row.len()));
     let whole = n - n % 4;
     let mut partial = [[0.0; 4]; R];

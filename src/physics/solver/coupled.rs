@@ -461,9 +461,15 @@ impl<'a> CoupledSolver<'a> {
             let axles = v.dynamics.axles.len();
             let own = &self.contacts[first..first + axles];
             debug_assert!(own.iter().all(|c| c.vehicle == vi));
+            // A tyre with no static load could lift off under unilateral contact (its force
+            // then pinned at -F_static): its car is stepped, never skipped.
             let excited = (own.iter().enumerate())
                 .filter(|(_, c)| {
-                    !self.rest_skip || c.on_span || c.road_m != 0.0 || c.road_slope != 0.0
+                    !self.rest_skip
+                        || c.on_span
+                        || c.road_m != 0.0
+                        || c.road_slope != 0.0
+                        || c.static_load_n <= 0.0
                 })
                 .map(|(j, _)| j);
             self.resting_block_steps += v.mark_resting(excited) as u64;

@@ -42,7 +42,7 @@ struct Block {
     gathered: Vec<f64>,
     history: Vec<f64>,
     /// Whether the block has not moved yet: every DOF's displacement, velocity and
-    /// acceleration exactly zero since it appeared (a car on a level approach).
+    /// acceleration exactly +0.0 since it appeared (a car on a level approach).
     at_rest: bool,
     /// This step's decision: at rest, and every tyre off the span on a level road, so the
     /// step leaves it at rest (see [`CoupledVehicle::stays_at_rest`]).
@@ -209,9 +209,10 @@ impl CoupledVehicle {
                 contact_inverse: Vec::new(),
                 gathered: vec![0.0; 3 * m],
                 history: vec![0.0; m],
+                // +0.0 only: the full step would turn a -0.0 into +0.0, the skip would not.
                 at_rest: dofs.iter().all(|&i| {
                     let s = &self.state;
-                    s.u[i] == 0.0 && s.v[i] == 0.0 && s.a[i] == 0.0
+                    [s.u[i], s.v[i], s.a[i]].iter().all(|x| x.to_bits() == 0)
                 }),
                 resting: false,
                 dofs,
