@@ -90,8 +90,9 @@ pub struct GirderSummary {
 pub struct RoadSummary {
     /// One line: the profile's kind, class, band and extent.
     pub description: String,
-    /// The profile as CSV (`x_m,elevation_m`).
-    pub csv: String,
+    /// The profile as CSV (`x_m,elevation_m`), shared: a kilometre of track is a
+    /// megabyte of text, and a run builds its manifest more than once (the estimate).
+    pub csv: std::sync::Arc<str>,
 }
 
 /// One realised value of a sensor's measurement chain (`gain_error`, `bias`,
@@ -275,7 +276,7 @@ impl RunManifest {
             },
             road: RoadSummary {
                 description: "smooth".into(),
-                csv: String::new(),
+                csv: "".into(),
             },
             sensors: Vec::new(),
             wim_stations: Vec::new(),

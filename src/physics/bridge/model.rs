@@ -344,15 +344,10 @@ impl BridgeModel {
         }
     }
 
-    /// The deflection and slope operators at `x_m`: the two [`BridgeModel::point_operator`]
-    /// calls, the element located once on a finite-element model.
+    /// `[deflection, slope]` operators at `x_m`: the two [`BridgeModel::point_operator`]
+    /// calls, the element located once on a finite-element model (a wheel needs both).
     #[inline]
-    pub fn deflection_and_slope_operators(
-        &self,
-        x_m: f64,
-        deflection: &mut SparseVec,
-        slope: &mut SparseVec,
-    ) {
+    pub fn wheel_operators(&self, x_m: f64, [deflection, slope]: [&mut SparseVec; 2]) {
         match (&self.reduction, self.on_girder(x_m)) {
             (Reduction::Identity, true) => self.mesh.wheel_operators(x_m, [deflection, slope]),
             _ => {

@@ -41,7 +41,7 @@ pub struct RoadProfile {
     description: String,
     /// `to_csv`, written once: every run and every burst of the estimate puts it in its
     /// manifest, and a sampled kilometre is tens of thousands of formatted rows.
-    csv: std::sync::OnceLock<String>,
+    csv: std::sync::OnceLock<std::sync::Arc<str>>,
 }
 
 impl RoadProfile {
@@ -370,9 +370,9 @@ impl RoadProfile {
 
     /// The profile as CSV (`x_m,elevation_m` with header), e.g. for the MCAP attachment.
     /// Reading it back with `from_csv_str` gives the same elevation at every sample.
-    pub fn to_csv(&self) -> String {
-        self.csv
-            .get_or_init(|| csv::write(self.sample_points()))
+    pub fn to_csv(&self) -> std::sync::Arc<str> {
+        (self.csv)
+            .get_or_init(|| csv::write(self.sample_points()).into())
             .clone()
     }
 

@@ -24,7 +24,6 @@ pub use super::coupled_vehicle::CoupledVehicle;
 use super::coupled_vehicle::MAX_TYRES_PER_BLOCK;
 use super::linear::SmallLu;
 use super::newmark::{Newmark, NewmarkCoefficients, SolveMode};
-use crate::base::dot::add_columns;
 use crate::error::{Error, Result};
 use crate::physics::bridge::{BridgeModel, PointQuantity, SparseVec};
 use crate::physics::road::RoadSurface;
@@ -50,27 +49,31 @@ pub enum ContactLaw {
     Unilateral,
 }
 
-/// The point operator of a wheel at `x_m`, or with `sleeper_spacing_m` the 1/4, 1/2, 1/4
-/// sum over the sleepers at x - a, x, x + a (entries may repeat: they add up).
-fn load_operator(
+/// The deflection and slope operators of a wheel at `x_m` (`ops`), or with
+/// `sleeper_spacing_m` their 1/4, 1/2, 1/4 sums over the sleepers at x - a, x, x + a
+/// (entries may repeat: they add up).
+fn wheel_operators(
     model: &BridgeModel,
     x_m: f64,
     sleeper_spacing_m: Option<f64>,
-    quantity: PointQuantity,
-    out: &mut SparseVec,
-    scratch: &mut SparseVec,
+    ops: [&mut SparseVec; 2],
+    scratch: &mut [SparseVec; 2],
 ) {
-    model.point_operator(x_m, quantity, out);
+    let [h, h_slope] = ops;
+    model.wheel_operators(x_m, [&mut *h, &mut *h_slope]);
     let Some(a) = sleeper_spacing_m else {
         return;
     };
-    for v in &mut out.val {
-        *v *= 0.5;
+    for op in [&mut *h, &mut *h_slope] {
+        op.val.iter_mut().for_each(|v| *v *= 0.5);
     }
     for x in [x_m - a, x_m + a] {
-        model.point_operator(x, quantity, scratch);
-        for (&i, &v) in scratch.idx.iter().zip(&scratch.val) {
-            out.push(i, 0.25 * v);
+        let [sh, ss] = scratch;
+        model.wheel_operators(x, [sh, ss]);
+        for (out, side) in [(&mut *h, &*sh), (&mut *h_slope, &*ss)] {
+            for (&i, &v) in side.idx.iter().zip(&side.val) {
+                out.push(i, 0.25 * v);
+            }
         }
     }
 }
@@ -144,7 +147,7 @@ pub struct CoupledSolver<'a> {
     pub rest_skip: bool,
     /// Block-steps skipped that way since the start.
     pub resting_block_steps: u64,
-    spread_scratch: SparseVec,
+    spread_scratch: [SparseVec; 2],
     road: &'a dyn RoadSurface,
     contacts: Vec<Contact>,
     rhs: DVector<f64>,
@@ -203,7 +206,7 @@ impl<'a> CoupledSolver<'a> {
             sleeper_spacing_m: None,
             rest_skip: true,
             resting_block_steps: 0,
-            spread_scratch: SparseVec::with_capacity(8),
+            spread_scratch: [SparseVec::with_capacity(8), SparseVec::with_capacity(8)],
             road,
             contacts: Vec::new(),
             rhs: DVector::zeros(n),
@@ -340,26 +343,12 @@ impl<'a> CoupledSolver<'a> {
                     c.h_slope.clear();
                     continue;
                 }
-                if spread.is_none() {
-                    (self.model).deflection_and_slope_operators(c.x_m, &mut c.h, &mut c.h_slope);
-                    continue;
-                }
-                let scratch = &mut self.spread_scratch;
-                load_operator(
+                wheel_operators(
                     &self.model,
                     c.x_m,
                     spread,
-                    PointQuantity::Deflection,
-                    &mut c.h,
-                    scratch,
-                );
-                load_operator(
-                    &self.model,
-                    c.x_m,
-                    spread,
-                    PointQuantity::Slope,
-                    &mut c.h_slope,
-                    scratch,
+                    [&mut c.h, &mut c.h_slope],
+                    &mut self.spread_scratch,
                 );
             }
         }
@@ -382,10 +371,15 @@ impl<'a> CoupledSolver<'a> {
             if contact.on_span {
                 match &self.inverse_columns {
                     Some(columns) => {
-                        let h = &contact.h;
-                        add_columns(contact.z.as_mut_slice(), true, || {
-                            (h.val.iter().zip(&h.idx)).map(|(&w, &k)| (w, columns[k].as_slice()))
-                        });
+                        // The first column scaled, then the others added: no zero fill.
+                        let mut terms = contact.h.idx.iter().zip(&contact.h.val);
+                        match terms.next() {
+                            Some((&k, &w)) => contact.z.zip_apply(&columns[k], |z, c| *z = w * c),
+                            None => contact.z.fill(0.0),
+                        }
+                        for (&k, &w) in terms {
+                            contact.z.axpy(w, &columns[k], 1.0);
+                        }
                     }
                     None => {
                         contact.z.fill(0.0);

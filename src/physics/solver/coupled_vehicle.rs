@@ -10,7 +10,7 @@
 use nalgebra::{DMatrix, DVector};
 
 use super::newmark::{NewmarkCoefficients, State};
-use crate::base::dot::{dot, dots};
+use crate::base::dot::dot;
 use crate::error::{Error, Result};
 use crate::physics::road::RoadSurface;
 use crate::physics::vehicle::VehicleDynamics;
@@ -346,9 +346,10 @@ impl CoupledVehicle {
             for (((&dof, gu), gv), ga) in block.dofs.iter().zip(gu).zip(gv).zip(ga) {
                 (*gu, *gv, *ga) = (u[dof], v[dof], a[dof]);
             }
-            propagate(&block.propagator, &block.gathered, &mut block.history);
-            for (&y, &dof) in block.history.iter().zip(&block.dofs) {
-                self.y0[dof] = y;
+            let rows = block.propagator.chunks_exact(3 * m);
+            for ((y, row), &dof) in block.history.iter_mut().zip(rows).zip(&block.dofs) {
+                *y = dot(row, &block.gathered);
+                self.y0[dof] = *y;
             }
         }
     }
@@ -375,30 +376,6 @@ impl CoupledVehicle {
                 v[i] += c.dt_s * ((1.0 - c.gamma) * a[i] + c.gamma * a_next);
                 a[i] = a_next;
                 u[i] = y_next;
-            }
-        }
-    }
-}
-
-/// `y = P g` for the row-major `P` (`y.len()` rows of `g.len()`), four rows at a time
-/// (each row's sum is [`dot`]'s, so the bits do not depend on the grouping).
-fn propagate(p: &[f64], g: &[f64], y: &mut [f64]) {
-    let w = g.len();
-    let mut rows = p.chunks_exact(w);
-    let mut outputs = y.chunks_mut(4);
-    for out in &mut outputs {
-        match out.len() {
-            4 => {
-                let r: [&[f64]; 4] = std::array::from_fn(|_| rows.next().unwrap_or_default());
-                // Element by element: a slice copy of a run-time length calls memcpy.
-                for (y, d) in out.iter_mut().zip(dots(r, g)) {
-                    *y = d;
-                }
-            }
-            _ => {
-                for y in out {
-                    *y = dot(rows.next().unwrap_or_default(), g);
-                }
             }
         }
     }
