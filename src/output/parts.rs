@@ -275,14 +275,29 @@ pub(super) fn check_target(target: &Path, force: bool) -> Result<()> {
             return Err(fail("already exists (use --force to overwrite)"));
         }
     }
+    // An interrupted run keeps its data under the `.partial` name: a new run would
+    // truncate it, so it is protected like a finished file.
+    let partial = partial_path(target);
+    if !force && std::fs::symlink_metadata(&partial).is_ok() {
+        return Err(fail(&format!(
+            "an interrupted run's data is kept in {} (use --force to overwrite it, or \
+             move it away)",
+            partial.display()
+        )));
+    }
     Ok(())
+}
+
+/// `<target>.partial`: where a run writes until it is complete.
+pub(crate) fn partial_path(target: &Path) -> PathBuf {
+    let mut name = target.file_name().unwrap_or_default().to_os_string();
+    name.push(".partial");
+    target.with_file_name(name)
 }
 
 /// Creates (or truncates a stale) `<target>.partial`; returns it and its path.
 pub(super) fn open_partial(target: &Path) -> Result<(BufWriter<File>, PathBuf)> {
-    let mut name = target.file_name().unwrap_or_default().to_os_string();
-    name.push(".partial");
-    let partial = target.with_file_name(name);
+    let partial = partial_path(target);
     let file = OpenOptions::new()
         .write(true)
         .create(true)

@@ -212,7 +212,7 @@ pub fn run_controlled(
         c.announce_start(model);
     }
     let mut taps = Vec::new();
-    let mut probes = Probes::new(model, resolved);
+    let mut probes = Probes::new(model, resolved)?;
     if let Some(c) = condition.as_ref() {
         probes.settle(model, resolved, c.settlement_m())?;
         probes.set_temperature(c.structure_c());
@@ -291,7 +291,7 @@ pub fn run_controlled(
         check_state(&solver, &probes.shape, &hint)?;
         peak_midspan_m = peak_midspan_m.max(probes.midspan.dot(&solver.bridge.state.u).abs());
         let shape_due = step % resolved.bridge_stride == 0;
-        probes.update_reactions(&solver, shape_due);
+        probes.update_loads(&solver, shape_due);
         for (i, tap) in taps.iter_mut().enumerate() {
             tap.push(&probes.quantities(i, &solver));
         }

@@ -5,7 +5,8 @@
 
 use crate::error::Result;
 use crate::physics::bridge::{
-    BridgeModel, PointQuantity, ReactionOperator, ReactionState, SettlementField, SparseVec,
+    BridgeModel, GaugeFactors, GaugeState, MomentGauge, PointQuantity, ReactionOperator,
+    ReactionState, SettlementField, SparseVec,
 };
 use crate::physics::solver::CoupledSolver;
 use crate::record::{Quantities, SensorKind};
@@ -16,7 +17,8 @@ use crate::scenario::Resolved;
 struct SensorProbe {
     deflection: SparseVec,
     slope: SparseVec,
-    moment: SparseVec,
+    /// The bending moment, from the equilibrium of the element the sensor sits in.
+    moment: MomentGauge,
     /// Bending strain per moment at the gauge, microstrain per N m.
     strain_per_moment: f64,
     /// The support a load cell sits on (index in the girder's order).
@@ -50,9 +52,10 @@ pub(super) struct Probes {
     reactions: ReactionOperator,
     /// Whether a load cell reads the reactions every step (else only with the shapes).
     every_step: bool,
-    /// The wheel loads on the girder this step: (x m, force N upward positive).
+    /// The wheel loads on the girder this step: (x m, force N upward positive), read by
+    /// the moment gauges and the reactions.
     loads: Vec<(f64, f64)>,
-    /// The support reactions at the last [`Probes::update_reactions`] (N, upward on the
+    /// The support reactions at the last [`Probes::update_loads`] (N, upward on the
     /// girder), settlements included.
     pub(super) reaction_n: Vec<f64>,
     settlement: Option<Settlement>,
@@ -61,7 +64,7 @@ pub(super) struct Probes {
 }
 
 impl Probes {
-    pub(super) fn new(model: &BridgeModel, resolved: &Resolved) -> Self {
+    pub(super) fn new(model: &BridgeModel, resolved: &Resolved) -> Result<Self> {
         let supports = model.beam.girder.support_positions_m();
         // The nearest support: the scenario placed each load cell on one.
         let nearest = |x: f64| {
@@ -99,27 +102,28 @@ impl Probes {
             settlement: None,
             temperature_c: crate::physics::environment::DEFAULT_AIR_C,
         };
-        probes.operators(model, resolved);
-        probes
+        probes.operators(model, resolved)?;
+        Ok(probes)
     }
 
     /// Rebuilds every operator on `model` (after a model rebuild: EI or a spring moved,
     /// so the moment, strain and reaction operators, a lumped model's interpolation and
     /// the settlements' static field did).
     pub(super) fn rebuild(&mut self, model: &BridgeModel, resolved: &Resolved) -> Result<()> {
-        self.operators(model, resolved);
+        self.operators(model, resolved)?;
         if let Some(now) = self.settlement.take().map(|s| s.now_m) {
             self.settle(model, resolved, &now)?;
         }
         Ok(())
     }
 
-    fn operators(&mut self, model: &BridgeModel, resolved: &Resolved) {
+    fn operators(&mut self, model: &BridgeModel, resolved: &Resolved) -> Result<()> {
+        let factors = GaugeFactors::new(model)?;
         for (probe, sensor) in self.sensors.iter_mut().zip(&resolved.sensors) {
             let x = sensor.position_m;
             model.point_operator(x, PointQuantity::Deflection, &mut probe.deflection);
             model.point_operator(x, PointQuantity::Slope, &mut probe.slope);
-            model.point_operator(x, PointQuantity::Moment, &mut probe.moment);
+            probe.moment = MomentGauge::with_factors(model, &factors, x);
             // Bending strain at the gauge: eps = M c / EI(x) (sagging M stretches the
             // bottom).
             probe.strain_per_moment = 1e6 * sensor.gauge_depth_m / model.beam.ei_at_n_m2(x);
@@ -130,6 +134,7 @@ impl Probes {
         let middle = longest_span_middle_m(model);
         model.point_operator(middle, PointQuantity::Deflection, &mut self.midspan);
         self.reactions = ReactionOperator::new(model);
+        Ok(())
     }
 
     /// Takes the supports' downward settlements `settlement_m` (girder order): their
@@ -176,23 +181,13 @@ impl Probes {
         self.temperature_c = structure_c;
     }
 
-    /// Reads the support reactions of the solver's state now, when a load cell needs
+    /// Takes the loads the solver's last step put on the girder (every step: the moment
+    /// gauges read them), and the support reactions of its state, when a load cell needs
     /// them every step or `shape_due` (a `/truth/bridge` message is written this step).
-    pub(super) fn update_reactions(&mut self, solver: &CoupledSolver, shape_due: bool) {
+    pub(super) fn update_loads(&mut self, solver: &CoupledSolver, shape_due: bool) {
+        solver.deck_loads(&mut self.loads);
         if !(self.every_step || shape_due) {
             return;
-        }
-        let dt_s = solver.bridge.coefficients.dt_s;
-        let length_m = solver.model.length_m();
-        self.loads.clear();
-        for v in solver.vehicles.iter().filter(|v| v.is_active()) {
-            for (j, &force) in v.contact_force_n.iter().enumerate() {
-                let x = v.axle_x_m(j, solver.step, dt_s);
-                if (0.0..=length_m).contains(&x) {
-                    // Tyre force: compression positive, a downward load on the girder.
-                    self.loads.push((x, -force));
-                }
-            }
         }
         let s = &solver.bridge.state;
         let state = ReactionState {
@@ -228,7 +223,13 @@ impl Probes {
         }
         let s = &solver.bridge.state;
         let (settled_m, settled_rad, settled_n_m) = probe.settled;
-        let moment_n_m = probe.moment.dot(&s.u) + settled_n_m;
+        let gauge = GaugeState {
+            u: &s.u,
+            v: &s.v,
+            a: &s.a,
+            loads: &self.loads,
+        };
+        let moment_n_m = probe.moment.read(&gauge) + settled_n_m;
         Quantities {
             displacement_m: -probe.deflection.dot(&s.u) + settled_m,
             velocity_m_s: -probe.deflection.dot(&s.v),

@@ -49,10 +49,12 @@ fn the_quick_study_amplifies_where_roughness_and_speed_say() {
             .find(|c| c.surface.label() == road && c.speed_m_s == v)
             .unwrap_or_else(|| panic!("{road} {v}"))
     };
-    // Smooth road, 10 m/s: nearly static (speed parameter v / (2 f1 L) = 0.03).
+    // Smooth road, 10 m/s: nearly static (speed parameter v / (2 f1 L) = 0.03): within
+    // 1 % of 1 either way (0.9993 sagging: the damped response lags a little behind the
+    // load, so its peak may fall short of the static one).
     let slow = case("smooth", 10.0);
     for daf in [slow.daf_sagging.mean, slow.daf_hogging.mean] {
-        assert!((1.0..1.01).contains(&daf), "{daf}");
+        assert!((daf - 1.0).abs() < 0.01, "{daf}");
     }
     // Roughness drives the amplification: class C above A at every speed, for both
     // moments and the axles.

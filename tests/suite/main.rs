@@ -23,6 +23,7 @@ mod environment_run;
 mod estimate;
 mod examples;
 mod foxglove;
+mod gauge_moment;
 mod girder_conditions;
 mod girder_sensors;
 mod hslm_study;

@@ -114,7 +114,7 @@ impl HermiteMesh {
 
     /// Equation numbers of the element's four DOFs.
     #[inline]
-    fn element_dofs(&self, e: usize) -> [Option<usize>; 4] {
+    pub(super) fn element_dofs(&self, e: usize) -> [Option<usize>; 4] {
         let (a, b) = (self.dof[e], self.dof[e + 1]);
         [a[0], a[1], b[0], b[1]]
     }

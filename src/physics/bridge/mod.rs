@@ -2,6 +2,7 @@
 //! finite elements, modal), modes, Rayleigh damping and point operators.
 
 mod beam;
+mod gauge;
 mod girder;
 mod hermite;
 mod lumped;
@@ -13,6 +14,7 @@ mod settlement;
 mod sparse;
 
 pub use beam::{BeamProperties, Section, StiffnessRegion, Varying};
+pub use gauge::{fixed_end_moment_m, GaugeFactors, GaugeState, MomentGauge};
 pub use girder::{Girder, Piece, PieceKind, Support, MAX_SPANS};
 pub use hermite::{element_consistent_mass, element_stiffness};
 pub use lumped::{

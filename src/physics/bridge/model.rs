@@ -280,6 +280,12 @@ impl BridgeModel {
         self.eigen_route.lowest(&self.stiffness, &self.mass, wanted)
     }
 
+    /// True for a modal model (its DOFs are modal coordinates of a finite-element mesh,
+    /// whose elements carry their own distributed mass).
+    pub fn is_modal(&self) -> bool {
+        matches!(self.spec, ModelSpec::Modal { .. })
+    }
+
     /// Number of DOFs of the model.
     pub fn n_dof(&self) -> usize {
         self.mass.n()
@@ -337,6 +343,30 @@ impl BridgeModel {
                     let v: f64 = mesh_weights[..count]
                         .iter()
                         .map(|&(dof, w)| w * t[(dof, j)])
+                        .sum();
+                    out.push(j, v);
+                }
+            }
+        }
+    }
+
+    /// The operator `sum_k weights[k].1 * (mesh DOF weights[k].0)` over the model DOFs,
+    /// into `out`; constrained mesh DOFs (`None`) carry nothing.
+    pub(super) fn operator_from_mesh(&self, weights: &[(Option<usize>, f64)], out: &mut SparseVec) {
+        out.clear();
+        match &self.reduction {
+            Reduction::Identity => {
+                for &(dof, w) in weights {
+                    if let Some(dof) = dof {
+                        out.push(dof, w);
+                    }
+                }
+            }
+            Reduction::Dense(t) => {
+                for j in 0..t.ncols() {
+                    let v: f64 = weights
+                        .iter()
+                        .filter_map(|&(dof, w)| dof.map(|dof| w * t[(dof, j)]))
                         .sum();
                     out.push(j, v);
                 }

@@ -199,7 +199,7 @@ impl BridgeModel {
 
     /// Appends `weight` times mesh DOF `dof` (a model DOF, or a row of the reduction)
     /// to `out`; nothing for a constrained DOF.
-    fn push_mesh_dof(&self, dof: Option<usize>, weight: f64, out: &mut SparseVec) {
+    pub(super) fn push_mesh_dof(&self, dof: Option<usize>, weight: f64, out: &mut SparseVec) {
         let Some(dof) = dof else {
             return;
         };

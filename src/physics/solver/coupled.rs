@@ -25,7 +25,7 @@ use super::coupled_vehicle::MAX_TYRES_PER_BLOCK;
 use super::linear::SmallLu;
 use super::newmark::{Newmark, NewmarkCoefficients, SolveMode};
 use crate::error::{Error, Result};
-use crate::physics::bridge::{BridgeModel, PointQuantity, SparseVec};
+use crate::physics::bridge::{BridgeModel, GaugeState, MomentGauge, PointQuantity, SparseVec};
 use crate::physics::road::RoadSurface;
 
 /// Tyre-road contact law.
@@ -501,6 +501,45 @@ impl<'a> CoupledSolver<'a> {
             v.finish_step(&c, &self.forces[first..first + axles]);
             first += axles;
         }
+    }
+
+    /// The point loads the last step put on the girder, into `out`: (x m, force N upward
+    /// positive), one per wheel on it, or its three sleepers' 1/4, 1/2, 1/4 shares under a
+    /// `sleeper_spacing_m` (a sleeper off the girder carries its share to the ground). Each
+    /// load is the one the step's load vector was built from, so whatever reads the
+    /// girder's equilibrium (a moment gauge, a support reaction) sees exactly it.
+    pub fn deck_loads(&self, out: &mut Vec<(f64, f64)>) {
+        out.clear();
+        let dt_s = self.bridge.coefficients.dt_s;
+        for v in self.vehicles.iter().filter(|v| v.is_active()) {
+            for (j, &force_n) in v.contact_force_n.iter().enumerate() {
+                let x_m = v.axle_x_m(j, self.step, dt_s);
+                // Tyre force: compression positive, a downward load on the girder.
+                let shares: &[(f64, f64)] = match self.sleeper_spacing_m {
+                    None => &[(0.0, 1.0)],
+                    Some(a) => &[(-a, 0.25), (0.0, 0.5), (a, 0.25)],
+                };
+                for &(dx_m, share) in shares {
+                    if self.model.on_girder(x_m + dx_m) {
+                        out.push((x_m + dx_m, -share * force_n));
+                    }
+                }
+            }
+        }
+    }
+
+    /// The elastic bending moment `gauge` reads in the current state (N m, sagging
+    /// positive), the deck's loads gathered into `loads` (a buffer kept by the caller, so
+    /// that reading every step allocates nothing).
+    pub fn gauge_moment_n_m(&self, gauge: &MomentGauge, loads: &mut Vec<(f64, f64)>) -> f64 {
+        self.deck_loads(loads);
+        let s = &self.bridge.state;
+        gauge.read(&GaugeState {
+            u: &s.u,
+            v: &s.v,
+            a: &s.a,
+            loads,
+        })
     }
 
     /// Bridge quantity at x from the current state (`which` 0: u, 1: v, 2: a).

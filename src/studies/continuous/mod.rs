@@ -19,9 +19,12 @@ mod report;
 use std::path::Path;
 use std::time::Instant;
 
+use nalgebra::DVector;
+
 use crate::error::{Error, Result};
 use crate::physics::bridge::{
-    BeamProperties, BridgeModel, HermiteMesh, LumpedStiffness, ModelSpec, PointQuantity, SparseVec,
+    BeamProperties, BridgeModel, GaugeFactors, GaugeState, LumpedStiffness, ModelSpec, MomentGauge,
+    PointQuantity, SparseVec,
 };
 use crate::physics::linalg::BandCholesky;
 use crate::physics::road::RoadSurface;
@@ -182,65 +185,55 @@ pub fn run(out: &Path, quick: bool, progress: &mut dyn FnMut(&str)) -> Result<Co
     Ok(report)
 }
 
-/// The influence line of the moment at `x_m` as a vector `z` with `M(load P at x) =
-/// P h(x) . z` (`K z = m`, K symmetric), on `mesh`.
-fn influence(mesh: &HermiteMesh, factor: &BandCholesky, x_m: f64) -> Vec<f64> {
-    let mut op = SparseVec::default();
-    mesh.point_operator(x_m, PointQuantity::Moment, &mut op);
-    let mut z = vec![0.0; mesh.n_dof];
-    for (&i, &v) in op.idx.iter().zip(&op.val) {
-        z[i] += v;
-    }
-    factor.solve_in_place(&mut z);
-    z
-}
-
 /// The static peaks (sagging at `sagging_x_m`, hogging at `hogging_x_m`; N m, positive)
 /// of the truck's static axle loads moved over the girder in 5 cm steps, on a mesh of
-/// `elements` Hermite elements.
+/// `elements` Hermite elements, read by the moment gauges the dynamic runs use (a static
+/// solve per position: exact moments, wherever an axle stands in a gauge's element).
 pub fn static_peaks(
     beam: &BeamProperties,
     truck: &VehicleDynamics,
     (sagging_x_m, hogging_x_m): (f64, f64),
     elements: usize,
 ) -> Result<(f64, f64)> {
-    let mesh = HermiteMesh::on_girder(beam, elements);
-    let factor = BandCholesky::factor(&mesh.stiffness_band()).map_err(|row| {
+    let model = BridgeModel::build(beam, &ModelSpec::FiniteElement { elements }, 0.0)?;
+    let factor = BandCholesky::factor(&model.stiffness.to_band()).map_err(|row| {
         Error::invalid(
             "bridge",
             format!("(equation {row})"),
             "is not positive definite",
         )
     })?;
-    let lines = [
-        influence(&mesh, &factor, sagging_x_m),
-        influence(&mesh, &factor, hogging_x_m),
-    ];
+    let factors = GaugeFactors::new(&model)?;
+    let gauges = [sagging_x_m, hogging_x_m].map(|x| MomentGauge::with_factors(&model, &factors, x));
     let length = beam.length_m();
+    let zero = DVector::zeros(model.n_dof());
+    let mut u = DVector::zeros(model.n_dof());
     let mut h = SparseVec::default();
+    let mut loads = Vec::new();
     let (mut sagging, mut hogging) = (0.0f64, 0.0f64);
     let steps = ((length + truck.wheelbase_m()) / 0.05).ceil() as usize;
     for i in 0..=steps {
         let front = i as f64 * 0.05;
-        let mut m = [0.0; 2];
+        loads.clear();
+        u.fill(0.0);
         for axle in &truck.axles {
             let x = front - axle.offset_m;
-            if !(0.0..=length).contains(&x) {
-                continue;
-            }
-            mesh.point_operator(x, PointQuantity::Deflection, &mut h);
-            for (mk, z) in m.iter_mut().zip(&lines) {
+            if model.on_girder(x) {
                 // A downward load is -P on the upward-positive DOFs.
-                *mk -= axle.static_load_n
-                    * h.idx
-                        .iter()
-                        .zip(&h.val)
-                        .map(|(&j, v)| v * z[j])
-                        .sum::<f64>();
+                loads.push((x, -axle.static_load_n));
+                model.point_operator(x, PointQuantity::Deflection, &mut h);
+                h.add_scaled_to(-axle.static_load_n, &mut u);
             }
         }
-        sagging = sagging.max(m[0]);
-        hogging = hogging.max(-m[1]);
+        factor.solve_in_place(u.as_mut_slice());
+        let state = GaugeState {
+            u: &u,
+            v: &zero,
+            a: &zero,
+            loads: &loads,
+        };
+        sagging = sagging.max(gauges[0].read(&state));
+        hogging = hogging.max(-gauges[1].read(&state));
     }
     Ok((sagging, hogging))
 }
@@ -277,11 +270,9 @@ fn crossing(
     let length = model.length_m();
     let travel_m = length + truck.wheelbase_m() + setup.approach_m;
     let steps = (travel_m / (speed_m_s * setup.dt_s)).ceil() as u64;
-    let ops = [SAGGING_X_M, PIER_X_M].map(|x| {
-        let mut op = SparseVec::default();
-        model.point_operator(x, PointQuantity::Moment, &mut op);
-        op
-    });
+    let factors = GaugeFactors::new(model)?;
+    let gauges = [SAGGING_X_M, PIER_X_M].map(|x| MomentGauge::with_factors(model, &factors, x));
+    let mut loads = Vec::new();
     let mut mid = SparseVec::default();
     model.point_operator(SAGGING_X_M, PointQuantity::Deflection, &mut mid);
     let mut out = Crossing {
@@ -292,9 +283,13 @@ fn crossing(
     };
     for _ in 0..steps {
         stepper.advance(&mut solver)?;
+        out.sagging_n_m = out
+            .sagging_n_m
+            .max(solver.gauge_moment_n_m(&gauges[0], &mut loads));
+        out.hogging_n_m = out
+            .hogging_n_m
+            .max(-solver.gauge_moment_n_m(&gauges[1], &mut loads));
         let u = &solver.bridge.state.u;
-        out.sagging_n_m = out.sagging_n_m.max(ops[0].dot(u));
-        out.hogging_n_m = out.hogging_n_m.max(-ops[1].dot(u));
         out.deflection_m = out.deflection_m.max(-mid.dot(u));
         let v = &solver.vehicles[0];
         for (j, dlc) in out.dlc.iter_mut().enumerate().take(v.dynamics.axles.len()) {

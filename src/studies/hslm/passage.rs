@@ -5,7 +5,7 @@
 use nalgebra::DVector;
 
 use crate::error::Result;
-use crate::physics::bridge::{BridgeModel, PointQuantity, SparseVec, Wanted};
+use crate::physics::bridge::{BridgeModel, MomentGauge, PointQuantity, SparseVec, Wanted};
 use crate::physics::road::LevelRoad;
 use crate::physics::solver::{
     ContactLaw, CoupledSolver, CoupledVehicle, NewmarkCoefficients, NewmarkParams, SolveMode,
@@ -29,7 +29,7 @@ pub struct Deck {
     mode_at_point: Vec<Vec<f64>>,
     projections: Vec<DVector<f64>>,
     midspan_deflection: SparseVec,
-    midspan_moment: SparseVec,
+    midspan_moment: MomentGauge,
     pub dt_s: f64,
     /// Kept modes and the cut-off (Hz).
     pub kept_modes: usize,
@@ -83,8 +83,7 @@ impl Deck {
         let mid = 0.5 * model.length_m();
         let mut midspan_deflection = SparseVec::with_capacity(n);
         model.point_operator(mid, PointQuantity::Deflection, &mut midspan_deflection);
-        let mut midspan_moment = SparseVec::with_capacity(n);
-        model.point_operator(mid, PointQuantity::Moment, &mut midspan_moment);
+        let midspan_moment = MomentGauge::new(&model, mid)?;
         Ok(Deck {
             model,
             mode_at_point,
@@ -122,8 +121,10 @@ impl Deck {
             min_wheel_ratio: 1.0,
             ..Peaks::default()
         };
+        let mut loads = Vec::new();
         for _ in 0..steps {
             stepper.advance(&mut solver)?;
+            let moment_n_m = solver.gauge_moment_n_m(&self.midspan_moment, &mut loads);
             let s = &solver.bridge.state;
             for (q, r) in modal.iter_mut().zip(&self.projections) {
                 *q = r.dot(&s.a);
@@ -133,7 +134,7 @@ impl Deck {
                 peaks.acceleration_m_s2 = peaks.acceleration_m_s2.max(a.abs());
             }
             peaks.deflection_m = peaks.deflection_m.max(-self.midspan_deflection.dot(&s.u));
-            peaks.moment_n_m = peaks.moment_n_m.max(self.midspan_moment.dot(&s.u));
+            peaks.moment_n_m = peaks.moment_n_m.max(moment_n_m);
             if let Some(v) = solver.vehicles.first().filter(|v| v.is_active()) {
                 for (j, axle) in v.dynamics.axles.iter().enumerate() {
                     if axle.dof.is_some()

@@ -5,7 +5,7 @@
 use std::time::Instant;
 
 use crate::error::Result;
-use crate::physics::bridge::{BridgeModel, PointQuantity, SparseVec};
+use crate::physics::bridge::{BridgeModel, MomentGauge, PointQuantity, SparseVec};
 use crate::physics::road::RoadSurface;
 use crate::physics::solver::{
     ContactLaw, CoupledSolver, CoupledVehicle, NewmarkCoefficients, NewmarkParams, SolveMode,
@@ -96,33 +96,48 @@ pub fn run_crossing(model: &BridgeModel, input: &CrossingInput) -> Result<Histor
     let axles = &input.vehicle.axles;
     let static_n = [axles[0].static_load_n, axles[axles.len() - 1].static_load_n];
     let mut history = History::with_capacity(input.dt_s, steps + 1, static_n);
-    let ops = midspan_operators(model);
+    let mut midspan = Midspan::new(model)?;
     let stepper = Stepper::new(model, DIVERGENCE_HINT);
     let started = Instant::now();
-    record(&solver, &ops, &mut history);
+    record(&solver, &mut midspan, &mut history);
     for _ in 0..steps {
         stepper.advance(&mut solver)?;
-        record(&solver, &ops, &mut history);
+        record(&solver, &mut midspan, &mut history);
     }
     history.loop_wall_s = started.elapsed().as_secs_f64();
     Ok(history)
 }
 
-/// Deflection and moment read-back weights at midspan.
-fn midspan_operators(model: &BridgeModel) -> [SparseVec; 2] {
-    [PointQuantity::Deflection, PointQuantity::Moment].map(|quantity| {
-        let mut op = SparseVec::with_capacity(model.n_dof());
-        model.point_operator(0.5 * model.length_m(), quantity, &mut op);
-        op
-    })
+/// What is read at midspan: the deflection's weights, the moment gauge and the deck
+/// loads' buffer it reads.
+struct Midspan {
+    deflection: SparseVec,
+    moment: MomentGauge,
+    loads: Vec<(f64, f64)>,
+}
+
+impl Midspan {
+    fn new(model: &BridgeModel) -> Result<Self> {
+        let mid = 0.5 * model.length_m();
+        let mut deflection = SparseVec::with_capacity(model.n_dof());
+        model.point_operator(mid, PointQuantity::Deflection, &mut deflection);
+        Ok(Midspan {
+            deflection,
+            moment: MomentGauge::new(model, mid)?,
+            loads: Vec::new(),
+        })
+    }
 }
 
 /// Appends the current state of `solver` to `history`.
-fn record(solver: &CoupledSolver, [mid, moment]: &[SparseVec; 2], history: &mut History) {
+fn record(solver: &CoupledSolver, midspan: &mut Midspan, history: &mut History) {
     let state = &solver.bridge.state;
-    history.deflection_m.push(mid.dot(&state.u));
-    history.acceleration_m_s2.push(mid.dot(&state.a));
-    history.moment_n_m.push(moment.dot(&state.u));
+    history.deflection_m.push(midspan.deflection.dot(&state.u));
+    history
+        .acceleration_m_s2
+        .push(midspan.deflection.dot(&state.a));
+    let moment_n_m = solver.gauge_moment_n_m(&midspan.moment, &mut midspan.loads);
+    history.moment_n_m.push(moment_n_m);
     let v = &solver.vehicles[0];
     let last = v.dynamics.axles.len() - 1;
     let dt = solver.bridge.coefficients.dt_s;
