@@ -1,4 +1,4 @@
-//! Issue 5's speed target, measured in one run: 16 accelerometers as `ideal` sensors
+//! The sensor chains' cost, measured in one run: 16 accelerometers as `ideal` sensors
 //! against `mems_lownoise` chains on drifting, resynchronised DAQ node clocks with bursty
 //! packet loss and spikes, 60 s of ambient excitation and a truck, end to end into an
 //! in-memory MCAP (the library's `bench::chains`, which `bridgetwin bench` times too).

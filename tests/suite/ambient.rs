@@ -1,4 +1,4 @@
-//! Ambient excitation (issue 5, item 4): the band-limited random force field reaches its
+//! Ambient excitation: the band-limited random force field reaches its
 //! target RMS acceleration in a simulation of the bridge alone, excites the first modes
 //! (including the antisymmetric mode 2), stays in its band, is reproducible per seed and
 //! rejects bad input by naming the field.
@@ -355,8 +355,8 @@ fn same_seed_same_force_different_seed_different_force() {
 #[test]
 fn setup_calibrates_from_the_modes_at_every_free_node() {
     // No trial run: the calibration is a sum over the model's modes, and the loads act at
-    // every node that can move. How long the set-up takes is printed (the brief: well
-    // under 100 ms for 50 elements), not asserted: a timing threshold on a shared machine
+    // every node that can move. How long the set-up takes is printed (it should stay
+    // well under 100 ms for 50 elements), not asserted: a timing threshold on a shared machine
     // tests the machine.
     let model = fe(50);
     let start = Instant::now();

@@ -65,7 +65,7 @@ fn daf_table_mismatches(table: &[(f64, f64)]) -> Vec<String> {
     failures
 }
 
-/// docs/physics.md section 5.1 prints the DAF to 3 decimals; the lead asked for +-0.002. The
+/// docs/physics.md section 5.1 prints the DAF to 3 decimals, so it must hold to +-0.002 (rounding plus a margin). The
 /// closed form here is converged to 1e-6 in modes (see `daf_converges_in_mode_count`),
 /// so the remaining differences (<= 0.0006) are in the table, not in the reference.
 #[test]

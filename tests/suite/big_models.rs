@@ -1,4 +1,4 @@
-//! Big models (issue "Big models and long runs"): the modes of models above the dense
+//! Big models: the modes of models above the dense
 //! eigen-solution's size come from the band by Sturm bisection and inverse iteration.
 //! Checked against the dense solution of the same matrices (moderate n, where the dense
 //! solution's own round-off is small enough to be a reference), against closed forms

@@ -1,4 +1,4 @@
-//! Readers of untrusted files never crash (issue 16, item 6): 1200 corrupted variants of a
+//! Readers of untrusted files never crash: 1200 corrupted variants of a
 //! run (byte flips anywhere, flips aimed at the header, the chunks and the summary,
 //! truncations, zeroed and garbage ranges) go to each reader: `inspect`, `simulate --from`
 //! (its scenario read) and the input layer's `read_run` (the Python package's reader). Each

@@ -1,4 +1,4 @@
-//! Temperature and damage driving the bridge stiffness (issue 6, item 4): each law against
+//! Temperature and damage driving the bridge stiffness: each law against
 //! its closed form, the noise against its statistics, and the frequencies of rebuilt
 //! models against sqrt(E) scaling and the exact stepped beam.
 

@@ -1,4 +1,4 @@
-//! Issue 6, item 4 in a run: temperature and damage change the bridge the time loop
+//! The environment in a run: temperature and damage change the bridge the time loop
 //! integrates. The frequency is read from the simulated response itself (the free
 //! vibration after a vehicle has left, timed by zero crossings) and compared with the
 //! closed form of a simply supported beam under the temperature law, and with the

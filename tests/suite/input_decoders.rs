@@ -1,4 +1,4 @@
-//! The readers decode every field of the output contract (issue 16): for each message
+//! The readers decode every field of the output contract: for each message
 //! type with a decoder, every field of its schema (from the descriptors embedded in the
 //! binary, so a field added to a `.proto` is seen here) is a column of what the decoder
 //! gives, by the naming rules of `tools/read_run.py`: a field by its name, a Timestamp

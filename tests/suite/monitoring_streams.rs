@@ -1,4 +1,4 @@
-//! Issue 5 end to end: the measurement chains, DAQ clocks, faults, ambient excitation and
+//! Monitoring end to end: the measurement chains, DAQ clocks, faults, ambient excitation and
 //! WIM models as a run produces them (records of `sim::run`), beyond the unit tests of
 //! each module (`tests/suite/sensor_presets.rs`, `tests/suite/daq.rs`, `tests/suite/ambient.rs`,
 //! `tests/suite/wim_models.rs`).

@@ -1,4 +1,4 @@
-//! Multi-axle vehicles (issue 6, item 1): rigid trucks on 2-4 axles, the tractor +
+//! Multi-axle vehicles: rigid trucks on 2-4 axles, the tractor +
 //! semi-trailer hinged at the fifth wheel, the traffic-class presets and their scaling to
 //! a traffic draw. Every figure is checked against an independent computation: statics by
 //! the lever rule on each body, matrices rebuilt here from docs/physics.md's formula,

@@ -1,4 +1,4 @@
-//! Issue 6 in a run: generated two-way traffic and multi-axle vehicles through the time
+//! Traffic in a run: generated two-way traffic and multi-axle vehicles through the time
 //! loop (the generator's statistics are in `tests/suite/traffic.rs`, the vehicle models in
 //! `tests/suite/multi_axle.rs`).
 

@@ -1,4 +1,4 @@
-//! Checks of the bridge models and the integrator (issue "bridge beam models").
+//! Checks of the bridge models and the integrator.
 
 use std::f64::consts::PI;
 

@@ -6,7 +6,7 @@ use super::harness::{
     Edit::{Remove, Set},
 };
 
-/// Issue 5: sensor presets and chains, DAQ nodes, faults, ambient excitation, WIM models.
+/// Sensor presets and chains, DAQ nodes, faults, ambient excitation, WIM models.
 /// Instruments riding on vehicles and on the road (drive-by, B-WIM).
 pub(super) fn instrument_cases() -> Vec<Case> {
     // sensors.0 is A1, an accelerometer at x = 3.75 m; the one vehicle is id 1, a half car.
@@ -269,7 +269,7 @@ pub(super) fn monitoring_cases() -> Vec<Case> {
     ]
 }
 
-/// Issue 6: generated traffic.
+/// Generated traffic.
 pub(super) fn traffic_cases() -> Vec<Case> {
     const DURATION: Edit = Set("duration_s", "60.0");
     vec![
@@ -314,7 +314,7 @@ pub(super) fn traffic_cases() -> Vec<Case> {
     ]
 }
 
-/// Issue 6: temperature and damage.
+/// Temperature and damage.
 pub(super) fn condition_cases() -> Vec<Case> {
     const CSV_AIR: Edit = Set(
         "environment",

@@ -1,4 +1,4 @@
-//! Trains (issue 19): presets, compositions, speeds and timetable entries.
+//! Trains: presets, compositions, speeds and timetable entries.
 
 use super::harness::{Case, Edit::Set};
 

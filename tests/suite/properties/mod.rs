@@ -1,4 +1,4 @@
-//! Property tests (issue "Robustness", item 5):
+//! Property tests:
 //!
 //! 1. random valid scenarios: resolve never panics; a resolved scenario runs to the end
 //!    (a `Divergence` fails the property: the scenarios are valid), every f64 of every
