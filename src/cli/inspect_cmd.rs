@@ -260,6 +260,11 @@ fn summary_count(scan: &Scan, channel_id: u16) -> Option<u64> {
 /// Warnings about the file: missing summary, damage, counts that disagree.
 fn notes(scan: &Scan, channels: &[ChannelReport]) -> Vec<String> {
     let mut notes = Vec::new();
+    if let Some(event) = &scan.truth.stop_event {
+        notes.push(format!(
+            "the output of a stopped run, not of the whole scenario: {event}"
+        ));
+    }
     if scan.summary_cut_short {
         notes.push(
             "summary section cut short (truncated file?): counts from a linear scan of the messages"

@@ -30,6 +30,18 @@ impl RunPath {
                 parts,
             });
         }
+        // `day.mcap.partial` for a split run: its parts are `day-0000.mcap[.partial]`.
+        if let Some(base) = path.to_str().and_then(|p| p.strip_suffix(".partial")) {
+            let parts = existing_parts(Path::new(base));
+            if let Some(last) = parts.last() {
+                bail!(
+                    "no such file: {} ({base} is a split run: pass {base} or a part's name, \
+                     such as {})",
+                    path.display(),
+                    last.display()
+                );
+            }
+        }
         let mut partial = path.as_os_str().to_os_string();
         partial.push(".partial");
         if Path::new(&partial).is_file() {
@@ -38,6 +50,9 @@ impl RunPath {
                 path.display(),
                 Path::new(&partial).display()
             );
+        }
+        if path.extension().is_some_and(|e| e == "partial") {
+            bail!("no such file: {}", path.display());
         }
         bail!(
             "no such file: {} (nor the parts of a split run, {})",
@@ -71,5 +86,31 @@ impl RunPath {
             if parts.len() == 1 { "" } else { "s" },
             parts[0].display()
         ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A split run's unfinished part is `day-0000.mcap.partial`: asked for
+    /// `day.mcap.partial`, the error names that file, not `day.mcap-0000.partial` (the part
+    /// name built from `day.mcap.partial` as if `.partial` were the extension).
+    #[test]
+    fn a_split_runs_partial_is_named_by_its_part() {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(dir.path().join("day-0000.mcap.partial"), b"x").unwrap();
+        let asked = dir.path().join("day.mcap.partial");
+        let e = RunPath::find(&asked).unwrap_err().to_string();
+        assert!(e.contains("day-0000.mcap.partial"), "{e}");
+        assert!(!e.contains("day.mcap-0000"), "{e}");
+        // The base name itself finds the part.
+        let found = RunPath::find(&dir.path().join("day.mcap")).unwrap();
+        assert_eq!(found.first(), dir.path().join("day-0000.mcap.partial"));
+        // A missing `.partial` of no run gets no invented part name.
+        let e = RunPath::find(&dir.path().join("other.mcap.partial"))
+            .unwrap_err()
+            .to_string();
+        assert!(!e.contains("-0000"), "{e}");
     }
 }

@@ -397,6 +397,13 @@ fn describe(e: &mcap::McapError, read_bytes: u64, file_bytes: u64) -> String {
              copy)"
                 .to_string()
         }
+        // The streaming writer puts a chunk's length in place when the chunk is done:
+        // until then the field holds all ones.
+        mcap::McapError::RecordTooLarge { opcode: 0x06, len } if *len == u64::MAX => {
+            "the file ends in a chunk its writer never finished (its length is still the \
+             placeholder): the output of a killed run, or a copy of a run still writing"
+                .to_string()
+        }
         mcap::McapError::RecordTooLarge { opcode, len } => format!(
             "a record (opcode {opcode:#04x}) claims {len} bytes, more than the file can hold \
              (corrupted length)"

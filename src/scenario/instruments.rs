@@ -13,7 +13,7 @@ use super::Scenario;
 use crate::base::schema as bounds;
 use crate::error::{item_path, num, require_non_negative, require_positive, Error, Result};
 use crate::measurement::vehicle::GnssNoise;
-use crate::physics::vehicle::{MountError, MountPoint};
+use crate::physics::vehicle::{MountError, MountPoint, BODY_OVERHANG_M};
 
 /// Where a sensor rides on a vehicle: on an axle or on the body (give exactly one).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
@@ -130,7 +130,7 @@ impl Scenario {
                 axle.to_string(),
                 format!("axle {axle}"),
             ),
-            (None, Some(offset)) if offset.is_finite() && offset.abs() <= 30.0 => (
+            (None, Some(offset)) if offset.is_finite() => (
                 MountPoint::Body { offset_m: offset },
                 "body_offset_m",
                 num(offset),
@@ -140,15 +140,23 @@ impl Scenario {
                 return Err(Error::invalid(
                     format!("{path}.vehicle.body_offset_m"),
                     num(offset),
-                    "must be a finite offset within 30 m of the front axle",
+                    "must be a finite offset behind the front axle (m)",
                 ))
             }
-            _ => {
+            (given_axle, given_offset) => {
+                let mut given = format!("{{ id = {}", mount.id);
+                if let Some(axle) = given_axle {
+                    given.push_str(&format!(", axle = {axle}"));
+                }
+                if let Some(offset) = given_offset {
+                    given.push_str(&format!(", body_offset_m = {}", num(offset)));
+                }
+                given.push_str(" }");
                 return Err(Error::invalid(
                     format!("{path}.vehicle"),
-                    format!("{{ id = {} }}", mount.id),
-                    "needs exactly one of axle (1 = front) or body_offset_m",
-                ))
+                    given,
+                    "needs exactly one of axle (1 = front) or body_offset_m, not both",
+                ));
             }
         };
         if mount.axle == Some(0) {
@@ -176,6 +184,14 @@ impl Scenario {
                     "needs one rigid body, which vehicle {} ({model}) has not: mount the \
                      sensor on an axle",
                     mount.id
+                ),
+                MountError::OffBody { from_m, to_m } => format!(
+                    "is off the body of vehicle {} ({model}, axles over {} m): a body point \
+                     lies from {} to {} m behind the front axle",
+                    mount.id,
+                    num(to_m - BODY_OVERHANG_M),
+                    num(from_m),
+                    num(to_m)
                 ),
             };
             Error::invalid(format!("{path}.vehicle.{field}"), value, reason)

@@ -184,6 +184,16 @@ fn sigint_and_sigterm_finish_a_readable_partial_file_and_exit_130() {
             last_event.contains(&format!("stopped on request at t = {stopped_at_s:.3} s")),
             "{signal}: last event {last_event:?}, stopped at {stopped_at_s}"
         );
+        // `inspect` tells a reader the file ends early because the run was stopped.
+        let inspect = bin().arg("inspect").arg(partial(&out)).output().unwrap();
+        let report = String::from_utf8_lossy(&inspect.stdout);
+        assert!(
+            report.contains(&format!(
+                "the output of a stopped run, not of the whole scenario: run stopped on \
+                 request at t = {stopped_at_s:.3} s"
+            )),
+            "{signal}: inspect does not say the run was stopped:\n{report}"
+        );
         // The default sensors sample at 200 Hz: the last sample is within one period
         // (and the printed time's rounding) of the stop.
         assert!(
@@ -237,6 +247,25 @@ fn a_killed_run_reads_back_up_to_its_last_flush() {
         before.len(),
         after.len()
     );
+    // `inspect` says what the file is: no summary, and a last chunk the writer never
+    // finished (a killed run), not a "corrupted" record.
+    let inspect = bin().arg("inspect").arg(partial(&out)).output().unwrap();
+    let said = format!(
+        "{}{}",
+        String::from_utf8_lossy(&inspect.stdout),
+        String::from_utf8_lossy(&inspect.stderr)
+    );
+    assert!(
+        said.contains("no summary section (interrupted run?)"),
+        "{said}"
+    );
+    assert!(!said.contains("corrupted"), "{said}");
+    if inspect.status.code() != Some(0) {
+        assert!(
+            said.contains("ends in a chunk its writer never finished"),
+            "{said}"
+        );
+    }
 }
 
 #[test]
@@ -272,4 +301,51 @@ fn the_stored_scenario_reruns_to_the_same_bytes() {
         std::fs::read(&first).unwrap() == std::fs::read(&again).unwrap(),
         "--from must reproduce the file byte for byte"
     );
+}
+
+/// An interrupted run's data lives under its `.partial` name: starting the same run
+/// again must not truncate it without `--force` (it once did, silently, exit 0), and the
+/// refusal names the `.partial`. With `--force` the new run replaces it.
+#[test]
+fn a_rerun_keeps_an_interrupted_runs_partial_file_unless_forced() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("kept.mcap");
+    let mut child = start_long_run(&out);
+    wait_for_data(&out, 1 << 20);
+    send(&child, "-INT");
+    let status = child.wait().unwrap();
+    assert_eq!(status.code(), Some(130));
+    let kept = std::fs::read(partial(&out)).unwrap();
+    let rerun = |force: bool| {
+        let mut cmd = bin();
+        cmd.args(["simulate", "--quiet", "--duration-s", "0.5", "--out"])
+            .arg(&out);
+        if force {
+            cmd.arg("--force");
+        }
+        cmd.output().unwrap()
+    };
+    let refused = rerun(false);
+    let stderr = String::from_utf8_lossy(&refused.stderr);
+    assert!(
+        !refused.status.success(),
+        "a rerun over the .partial succeeded: {stderr}"
+    );
+    assert!(
+        stderr.contains("kept.mcap.partial") && stderr.contains("--force"),
+        "{stderr}"
+    );
+    assert_eq!(
+        std::fs::read(partial(&out)).unwrap(),
+        kept,
+        "the .partial changed"
+    );
+    assert!(!out.exists());
+    let forced = rerun(true);
+    assert!(
+        forced.status.success(),
+        "{}",
+        String::from_utf8_lossy(&forced.stderr)
+    );
+    assert!(out.exists() && !partial(&out).exists());
 }

@@ -6,6 +6,7 @@ use std::collections::BTreeMap;
 
 use prost::Message as _;
 
+use crate::output::proto::foxglove::Log;
 use crate::output::proto::v1::{AxleLoads, BridgeState, SampleBlock, SensorTruthBlock};
 
 /// Schema names (fully qualified protobuf message names) the report decodes.
@@ -13,6 +14,11 @@ pub(super) const AXLE_LOADS: &str = "bridgetwin.v1.AxleLoads";
 pub(super) const BRIDGE_STATE: &str = "bridgetwin.v1.BridgeState";
 pub(super) const SAMPLE_BLOCK: &str = "bridgetwin.v1.SampleBlock";
 pub(super) const SENSOR_TRUTH_BLOCK: &str = "bridgetwin.v1.SensorTruthBlock";
+pub(super) const LOG: &str = "foxglove.Log";
+
+/// How the run's last event begins when a stop request (Ctrl-C, SIGTERM, a sweep's stop)
+/// ended it before its scenario's end (written by `sim::run`).
+pub(super) const STOP_EVENT_PREFIX: &str = "run stopped on request at t = ";
 
 /// Samples carried by the block messages of one channel. A block is stamped with its first
 /// sample; the others follow at `sample_period_ns`.
@@ -79,6 +85,8 @@ pub(super) struct TruthScan {
     pub modal: Option<(Vec<f64>, Vec<f64>)>,
     /// Keyed by (vehicle id, axle index).
     pub axles: BTreeMap<(u32, u32), AxleStats>,
+    /// The event that says a stop request ended the run, if the file holds one.
+    pub stop_event: Option<String>,
     bridge_seen: bool,
 }
 
@@ -108,6 +116,12 @@ impl TruthScan {
                 let b = SensorTruthBlock::decode(data)?;
                 let tally = blocks.get_or_insert_with(BlockStats::default);
                 tally.add(log_time_ns, b.sample_period_ns, truth_block_len(&b));
+            }
+            LOG => {
+                let log = Log::decode(data)?;
+                if log.message.starts_with(STOP_EVENT_PREFIX) {
+                    self.stop_event = Some(log.message);
+                }
             }
             _ => {}
         }

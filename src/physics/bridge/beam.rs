@@ -6,7 +6,7 @@ use serde::{Deserialize, Serialize};
 
 use super::girder::Girder;
 use crate::base::schema as bounds;
-use crate::error::{require_positive, Error, Result};
+use crate::error::{num, require_positive, Error, Result};
 
 /// A straight Euler-Bernoulli girder: spans on supports, optional overhangs.
 ///
@@ -32,14 +32,68 @@ pub struct BeamProperties {
     pub stiffness_regions: Vec<StiffnessRegion>,
 }
 
+/// The stiffest spring support accepted, as a multiple of the girder's own stiffness
+/// (see `BeamProperties::validate`).
+pub const MAX_SPRING_TO_GIRDER: f64 = 1e10;
+
 /// A value constant over a segment, or varying linearly from its start to its end.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
+///
+/// Read by hand rather than as an untagged enum, whose only message for a wrong shape is
+/// "did not match any variant": a list of three values is told that a haunch has two.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, JsonSchema)]
 #[serde(untagged)]
 pub enum Varying {
     /// The same value over the segment.
     Constant(#[schemars(transform = bounds::positive)] f64),
     /// [at start_m, at end_m], linear between (a haunch).
     Linear(#[schemars(transform = bounds::positive_items)] [f64; 2]),
+}
+
+impl<'de> Deserialize<'de> for Varying {
+    fn deserialize<D: serde::Deserializer<'de>>(
+        deserializer: D,
+    ) -> std::result::Result<Self, D::Error> {
+        deserializer.deserialize_any(VaryingVisitor)
+    }
+}
+
+struct VaryingVisitor;
+
+impl<'de> serde::de::Visitor<'de> for VaryingVisitor {
+    type Value = Varying;
+
+    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str("one number, or [at start, at end] for a haunch")
+    }
+
+    fn visit_f64<E: serde::de::Error>(self, v: f64) -> std::result::Result<Varying, E> {
+        Ok(Varying::Constant(v))
+    }
+
+    fn visit_i64<E: serde::de::Error>(self, v: i64) -> std::result::Result<Varying, E> {
+        Ok(Varying::Constant(v as f64))
+    }
+
+    fn visit_u64<E: serde::de::Error>(self, v: u64) -> std::result::Result<Varying, E> {
+        Ok(Varying::Constant(v as f64))
+    }
+
+    fn visit_seq<A: serde::de::SeqAccess<'de>>(
+        self,
+        mut seq: A,
+    ) -> std::result::Result<Varying, A::Error> {
+        let mut values = Vec::with_capacity(2);
+        while let Some(v) = seq.next_element::<f64>()? {
+            values.push(v);
+        }
+        match values.as_slice() {
+            &[start, end] => Ok(Varying::Linear([start, end])),
+            _ => Err(serde::de::Error::custom(format_args!(
+                "a haunch is [at start, at end]: 2 values, not {}",
+                values.len()
+            ))),
+        }
+    }
 }
 
 impl Varying {
@@ -141,7 +195,46 @@ impl BeamProperties {
             self.check_extent(&p, r.start_m, r.end_m)?;
             require_positive(&format!("{p}.ei_factor"), r.ei_factor)?;
         }
-        self.validate_sections(path)
+        self.validate_sections(path)?;
+        self.check_springs_against_the_girder(path)
+    }
+
+    /// A spring many orders stiffer than the girder it holds leaves the girder's own
+    /// stiffness below the round-off of the factorization: `1e300` passes every sign check
+    /// and then fails (or silently loses the beam) in the solve. Beyond
+    /// [`MAX_SPRING_TO_GIRDER`] times the shortest span's `EI / L^3` (vertical) or `EI / L`
+    /// (rotational), fewer than 6 of f64's 16 digits are left for the beam; a support that
+    /// stiff is rigid, and `"pinned"` or `"fixed"` says so exactly.
+    fn check_springs_against_the_girder(&self, path: &str) -> Result<()> {
+        let span_m = self
+            .girder
+            .spans_m
+            .iter()
+            .copied()
+            .fold(f64::INFINITY, f64::min);
+        let ei = self.flexural_rigidity_n_m2;
+        let girder = [
+            ("vertical_n_m", ei / span_m.powi(3), "EI / L^3", "N/m"),
+            ("rotational_n_m_rad", ei / span_m, "EI / L", "N m/rad"),
+        ];
+        for (i, support) in self.girder.supports.iter().enumerate() {
+            let (kv, kr) = support.springs();
+            for ((name, k_girder, formula, unit), k) in girder.iter().zip([kv, kr]) {
+                if k > MAX_SPRING_TO_GIRDER * k_girder {
+                    return Err(Error::invalid(
+                        format!("{path}.supports.{i}.{name}"),
+                        num(k),
+                        format!(
+                            "is {:.1e} times the girder's {formula} = {k_girder:.3e} {unit} \
+                             (at most {MAX_SPRING_TO_GIRDER:e}): the factorization would lose \
+                             the girder; a rigid support is \"pinned\" or \"fixed\"",
+                            k / k_girder
+                        ),
+                    ));
+                }
+            }
+        }
+        Ok(())
     }
 
     /// `start_m < end_m`, both on the girder.

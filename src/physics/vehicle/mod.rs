@@ -20,7 +20,7 @@ pub use dynamics::{Axle, VehicleDynamics, GRAVITY_M_S2};
 pub use models::{
     quarter_car, rigid_body_on_axles, sprung_mass, AxleParams, BodyParams, RigidTruckParams,
 };
-pub use mounts::{MountError, MountPoint};
+pub use mounts::{MountError, MountPoint, BODY_OVERHANG_M};
 pub use railway::RailwayCarParams;
 pub use rake::{Bogie, CarBody, Pivot, RakeLayout, Suspension};
 pub use spec::{HalfCarSpec, VehicleModelSpec, HALF_CAR_PRESETS};

@@ -23,7 +23,16 @@ pub enum MountError {
     /// The body is not one rigid body in bounce and pitch (moving forces, tractor and
     /// trailer).
     NoSingleBody,
+    /// The point is off the body: further than [`BODY_OVERHANG_M`] beyond an outer axle.
+    OffBody { from_m: f64, to_m: f64 },
 }
+
+/// How far beyond its outer axles a vehicle's body is taken to reach, m. A rigid body in
+/// bounce and pitch is a model of the vehicle, not of the road 20 m behind it: a point
+/// further out is a typing error. Road vehicles' overhangs stay below this (a city bus's
+/// front overhang is about 2.7 m, a rigid truck's rear one about 3 m), so no real mount
+/// is refused.
+pub const BODY_OVERHANG_M: f64 = 3.5;
 
 impl VehicleDynamics {
     /// The DOF combination `[(dof, coefficient)]` whose value is the vertical motion of
@@ -46,6 +55,10 @@ impl VehicleDynamics {
     /// pitch `theta` moves `y_B + (cg - offset) theta` there (models.rs, the lever `d`);
     /// a quarter car's or sprung mass's body is one DOF.
     fn body_point(&self, offset_m: f64) -> Result<Vec<(usize, f64)>, MountError> {
+        let (from_m, to_m) = (-BODY_OVERHANG_M, self.wheelbase_m() + BODY_OVERHANG_M);
+        if !(from_m..=to_m).contains(&offset_m) {
+            return Err(MountError::OffBody { from_m, to_m });
+        }
         let names: Vec<&str> = self.dof_names.iter().map(String::as_str).collect();
         match names.as_slice() {
             ["body_bounce", "body_pitch", ..] => {

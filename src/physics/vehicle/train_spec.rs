@@ -162,13 +162,15 @@ impl TrainSpec {
                     "gives both a preset and cars: give preset or cars",
                 ))
             }
-            (None, true) => {
-                return Err(Error::invalid(
-                    format!("{path}.cars"),
-                    "[]",
-                    "is empty and no preset is given: a train needs at least one car",
-                ))
-            }
+            // `cars` absent and `cars = []` deserialize alike: the message fits both.
+            (None, true) => return Err(Error::invalid(
+                path,
+                "a train without a preset or a car",
+                format!(
+                    "needs preset = \"...\" (one of {}) or cars = [ ... ] with at least one car",
+                    TRAIN_PRESETS.join(", ")
+                ),
+            )),
         };
         train.name = self.model_name();
         let representation = match self.representation {

@@ -65,7 +65,21 @@ pub(super) fn instrument_cases() -> Vec<Case> {
                     "{ id = 1, axle = 1, body_offset_m = 1.0 }",
                 ),
             ],
-            &["sensors.0[A1].vehicle", "needs exactly one of axle"],
+            &[
+                "sensors.0[A1].vehicle = { id = 1, axle = 1, body_offset_m = 1 }",
+                "needs exactly one of axle",
+            ],
+        ),
+        Case::edit(
+            "vehicle sensor on the body 20 m behind the front axle of a half car",
+            &[
+                Remove("sensors.0.position_m"),
+                Set("sensors.0.vehicle", "{ id = 1, body_offset_m = 20.0 }"),
+            ],
+            &[
+                "sensors.0[A1].vehicle.body_offset_m = 20",
+                "is off the body of vehicle 1",
+            ],
         ),
         Case::edit(
             "vehicle sensor with a position on the bridge too",

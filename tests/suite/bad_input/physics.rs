@@ -399,6 +399,26 @@ pub(super) fn physics_cases() -> Vec<Case> {
             &["bridge.stiffness_regions.0.start_m = -5 must lie on the girder [0, 30] m"],
         ),
         Case::edit(
+            "elastic support 1e300 times stiffer than a rigid one needs",
+            &[Set(
+                "bridge.supports",
+                "[\"pinned\", { elastic = { vertical_n_m = 1e300, rotational_n_m_rad = 0.0 } }]",
+            )],
+            &[
+                "bridge.supports.1.vertical_n_m = 1e300",
+                "times the girder's EI / L^3",
+                "a rigid support is \"pinned\"",
+            ],
+        ),
+        Case::edit(
+            "haunch with three values",
+            &[Set(
+                "bridge.sections",
+                "[{ start_m = 0.0, end_m = 5.0, flexural_rigidity_n_m2 = [1e10, 2e10, 3e10] }]",
+            )],
+            &["bridge.sections.0.flexural_rigidity_n_m2: a haunch is [at start, at end]: 2 values, not 3"],
+        ),
+        Case::edit(
             "stiffness region with EI factor zero",
             &[Set(
                 "bridge.stiffness_regions",

@@ -43,7 +43,18 @@ pub(super) fn railway_cases() -> Vec<Case> {
         Case::edit(
             "composition with no cars",
             &[Set("vehicles.0.model", "{ kind = \"train\", cars = [] }")],
-            &["vehicles.0[1].model.cars = []", "at least one car"],
+            &[
+                "vehicles.0[1].model = a train without a preset or a car",
+                "at least one car",
+            ],
+        ),
+        Case::edit(
+            "train with neither a preset nor cars",
+            &[Set("vehicles.0.model", "{ kind = \"train\" }")],
+            &[
+                "vehicles.0[1].model = a train without a preset or a car",
+                "needs preset = \"...\" (one of hslm_a1",
+            ],
         ),
         Case::edit(
             "preset and cars together",

@@ -154,6 +154,10 @@ pub const SCHEMA_ACCEPTS: &[(&str, &str)] = &[
         "f1 follows from span, EI and mass",
     ),
     (
+        "elastic support 1e300 times stiffer than a rigid one needs",
+        "the bound is 1e10 x the girder's EI / L^3, from bridge.flexural_rigidity_n_m2 and spans_m",
+    ),
+    (
         "EI off by 90 orders of magnitude",
         "f1 follows from span, EI and mass",
     ),
@@ -219,6 +223,11 @@ pub const SAME_CAUSE_OTHER_WORDS: &[(&str, &str)] = &[
     (
         "whitespace only",
         "the schema: `bridge` is required; the CLI: the file is empty",
+    ),
+    (
+        "composition with no cars",
+        "the schema: `cars` needs one item; the CLI: the train has neither a preset nor a car \
+         (an absent `cars` and an empty one read alike)",
     ),
 ];
 
