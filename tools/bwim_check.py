@@ -108,9 +108,12 @@ narrowest interval that passes, is reported with ``pi`` and ``pi0`` so that the 
 visible. The class reached is the best class whose ``delta`` is at least ``delta_min``.
 
 Exit status 0 when the gross-weight class reached is ``--expect-class`` or better (default
-D+(20)), 1 otherwise, 2 on bad input (no strain topics, no FAD gauges or with ``--axles
-detectors`` no pair of axle detectors, no usable calibration run, a calibration file made
-with the other axle detection, nothing to score).
+D+(20)), 1 otherwise, 2 on bad input, one line on stderr naming the file (no such file,
+empty, not an MCAP file, truncated; no strain topics or no FAD gauges, or with ``--axles
+detectors`` no axle detectors: not the bwim_calibration example; no pair of axle
+detectors, no usable calibration run, a missing or unreadable calibration file or one made
+with the other axle detection, nothing to score: ``tools/bad_input.py``), 4 when the tool
+itself failed.
 
 The pipeline is the package ``tools/bwim/`` (one job per module: reading, FAD axles, road
 axle detectors, calibration, weighing, COST 323, scoring, report); this file is its command
@@ -126,6 +129,7 @@ from pathlib import Path
 # The package tools/bwim/ next to this file, from any working directory.
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
+from bad_input import guard  # noqa: E402
 from bwim.cost323 import CLASSES, PI_INF, assess, class_rank, pi0, pi_level  # noqa: E402, F401
 from bwim.io import _reader, read_strains, read_truth  # noqa: E402, F401
 from bwim.pipeline import run  # noqa: E402
@@ -257,4 +261,4 @@ def main(argv: list[str]) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main(sys.argv[1:]))
+    sys.exit(guard("bwim_check", main, sys.argv[1:]))

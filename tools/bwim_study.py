@@ -24,6 +24,10 @@ thing varied. The scores are one realisation of ten minutes of traffic (about 30
 differences of a few tenths of a percent in a standard deviation are within the sampling
 scatter (the relative standard error of a standard deviation from n values is about
 1 / sqrt(2 (n - 1)), 13 % for n = 30).
+
+Exit status 0 when the study is written; 2, one line on stderr naming the file, when the
+bridgetwin binary (``--bin``) is missing, empty, cut short, not a program or not bridgetwin,
+or one of its runs fails (``tools/bad_input.py``); 4 when the tool itself failed.
 """
 
 from __future__ import annotations
@@ -35,7 +39,6 @@ import io
 import json
 import re
 import shutil
-import subprocess
 import sys
 import tempfile
 import time
@@ -47,6 +50,7 @@ HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 sys.path.insert(0, str(HERE))
 import bwim_check  # noqa: E402
+from bad_input import check_binary, guard, run_binary  # noqa: E402
 from bwim.study_figures import plot_all  # noqa: E402
 from bwim.study_summary import write_summary  # noqa: E402
 
@@ -102,9 +106,7 @@ def simulate(bt: str, toml_text: str, work: Path, name: str, log: list) -> tuple
     scen.write_text(toml_text)
     out = work / f"{name}.mcap"
     t0 = time.perf_counter()
-    subprocess.run(
-        [bt, "simulate", str(scen), "--out", str(out), "--force", "--quiet"], check=True, stderr=subprocess.DEVNULL
-    )
+    run_binary([bt, "simulate", str(scen), "--out", str(out), "--force", "--quiet"])
     dt = time.perf_counter() - t0
     log.append(f"simulated {name} in {dt:.1f} s")
     return out, dt
@@ -118,7 +120,7 @@ def check(run: Path, extra: list[str], work: Path, name: str) -> tuple[dict, flo
     if js.exists():
         js.unlink()
     with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(err):
-        code = bwim_check.main([str(run), "--json", str(js), *extra])
+        code = guard("bwim_check", bwim_check.main, [str(run), "--json", str(js), *extra])
     dt = time.perf_counter() - t0
     if code not in (0, 1) or not js.exists():
         return {"error": err.getvalue().strip().replace("bwim_check: ", "")}, dt, code
@@ -231,6 +233,7 @@ def main(argv: list[str]) -> int:
     if not bt:
         print("bwim_study: no bridgetwin binary (--bin)", file=sys.stderr)
         return 2
+    bt = check_binary(bt)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     tmp = None
@@ -353,4 +356,4 @@ def main(argv: list[str]) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main(sys.argv[1:]))
+    sys.exit(guard("bwim_study", main, sys.argv[1:]))

@@ -21,7 +21,13 @@ Checks, per file:
   instrument) has messages (switchable): a run that measured nothing is not a valid
   monitoring record.
 
-Prints one ``OK`` line per valid file; otherwise ``FAIL`` lines on stderr, exit status 1.
+Prints one ``OK`` line per valid file; otherwise ``FAIL`` lines on stderr.
+
+Exit status: 0 when every file is valid; 1 when a check failed on a file that could be
+read (flipped bytes, a wrong count, no sensor message ...); 2 when a file cannot be
+checked at all: no such file, empty, not an MCAP file, or truncated (it ends without the
+MCAP footer: a killed run's ``.partial``, a copy cut short), one line on stderr per such
+file (``tools/bad_input.py``); 4 when the tool itself failed.
 """
 
 from __future__ import annotations
@@ -33,11 +39,15 @@ import argparse
 import sys
 from collections import Counter
 from datetime import datetime, timezone
+from pathlib import Path
 
 from mcap.reader import make_reader
 from mcap.records import Attachment, Chunk, DataEnd, Footer, Message, Metadata
 from mcap.stream_reader import StreamReader
 from mcap_protobuf.decoder import DecoderFactory
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from bad_input import EXIT_BAD_INPUT, BadInput, check_mcap, fail, guard  # noqa: E402
 
 REQUIRED_METADATA = ("bridgetwin", "scenario", "bridge_model")
 MAX_PROBLEMS = 20  # per file; the first ones say enough
@@ -234,8 +244,14 @@ def main() -> int:
         help="require messages on at least one /sensors/ or /vehicles/ channel (default: on)",
     )
     args = parser.parse_args()
-    failed = 0
+    failed = unusable = 0
     for path in args.files:
+        try:
+            check_mcap(path)
+        except BadInput as e:
+            unusable += 1
+            fail("check_mcap", e)
+            continue
         problems, line = check_file(path, args.require_metadata, args.require_sensors)
         if problems.first:
             failed += 1
@@ -243,8 +259,8 @@ def main() -> int:
                 print(f"FAIL {path}: {item}", file=sys.stderr)
         else:
             print(f"OK {path}: {line}")
-    return 1 if failed else 0
+    return EXIT_BAD_INPUT if unusable else 1 if failed else 0
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(guard("check_mcap", main))

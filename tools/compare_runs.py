@@ -8,17 +8,26 @@ Loads every /sensors/ and /truth/sensors/ topic of both files with read_run.py a
 compares the values exactly and the time stamps to 1 us: a block carries its first
 sample's time and the period rounded to whole ns, so at rates whose period is not a
 whole number of ns (300 Hz) the times it implies drift from the per-sample stamps by up
-to block_samples / 2 ns (16 ns for 50 samples at 300 Hz). Exit code 1 on any difference,
-on a damaged file (truncated, flipped bytes), or when the files have no sensor topic at
-all (there is nothing to compare, so nothing is shown to be equal)."""
+to block_samples / 2 ns (16 ns for 50 samples at 300 Hz).
+
+Exit code 0 when the sensor data are identical; 1 on any difference, on a file damaged
+inside (flipped bytes), or when the files have no sensor topic at all (there is nothing to
+compare, so nothing is shown to be equal); 2, one line on stderr naming the file, when a
+file cannot be compared: no such file, empty, not an MCAP file, truncated (it ends
+without the MCAP footer: a killed run's .partial, a copy cut short; tools/bad_input.py);
+4 when the tool itself failed."""
 
 from __future__ import annotations
 
 import sys
 
+from pathlib import Path
+
 import numpy as np
 
-from read_run import Damage, load_run
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from bad_input import check_mcap, guard  # noqa: E402
+from read_run import Damage, load_run  # noqa: E402
 
 PREFIXES = ("/sensors/", "/truth/sensors/")
 # Allowed difference of the time columns (see the module note), in their units.
@@ -53,6 +62,8 @@ def main(argv: list[str]) -> int:
     if len(argv) != 3:
         print(__doc__, file=sys.stderr)
         return 2
+    for path in argv[1:]:
+        check_mcap(path)  # BadInput: one line, exit 2 (guard below)
     try:
         problems = compare(argv[1], argv[2])
     except Exception as e:  # noqa: BLE001 - a file the readers cannot read is a difference
@@ -65,4 +76,4 @@ def main(argv: list[str]) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main(sys.argv))
+    sys.exit(guard("compare_runs", main, sys.argv))

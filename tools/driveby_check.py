@@ -61,9 +61,11 @@ Exit status 0 when the chosen estimator's (``--estimator``, default contact_resi
 of all passes stands ``--min-snr-db`` over the floor and is within ``--tol`` (relative;
 default the bound of step 4 for the slowest pass) of the truth, and that bound is not
 coarser than ``--tol`` (a record too short to resolve f1 to the tolerance cannot pass,
-whatever its number); 1 otherwise; 2 on bad input (no accelerometer on a vehicle's axle,
-no GNSS on it, no pass over the bridge, no parameters of the instrumented vehicle, no
-record off the bridge).
+whatever its number); 1 otherwise; 2 on bad input, one line on stderr naming the file (no
+such file, empty, not an MCAP file, truncated; no vehicle accelerometer: not the drive_by
+example; no accelerometer on a vehicle's axle, no GNSS on it, no pass over the bridge, no
+parameters of the instrumented vehicle, no record off the bridge: ``tools/bad_input.py``);
+4 when the tool itself failed.
 
 [1] Y.B. Yang, C.W. Lin, J.D. Yau, Extracting bridge frequencies from the dynamic response
     of a passing vehicle, J. Sound Vib. 272 (2004) 471-493.
@@ -88,6 +90,8 @@ import numpy as np
 from scipy import signal
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+from bad_input import check_mcap, fail, guard, reader_error, require_topics  # noqa: E402
+
 VEH, TRUTH_BRIDGE, TRUTH_VEHICLES = "/vehicles/", "/truth/bridge", "/truth/vehicles"
 ESTIMATORS = ("axle", "contact", "axle_residual", "contact_residual")
 
@@ -429,15 +433,24 @@ def truth_f1(path: str) -> float:
 
 def main(argv: list[str]) -> int:
     args = options(argv)
+    check_mcap(args.run)
+    require_topics(
+        args.run,
+        (VEH,),
+        "vehicle accelerometer",
+        "drive_by",
+        keep=lambda t: re.fullmatch(r"/vehicles/\d+/accel/.+", t),
+        shown=f"{VEH}<id>/accel/*",
+    )
     try:
         res = estimate(args.run, args)
+    except ValueError as e:  # what the steps find wrong: the message names the file
+        return fail("driveby_check", e)
     except Exception as e:  # noqa: BLE001 - a file the readers cannot read is bad input
-        print(f"driveby_check: {type(e).__name__}: {e}", file=sys.stderr)
-        return 2
+        return fail("driveby_check", reader_error(args.run, e))
     est, rows, name = res["f1_hz"], res["passes"], args.estimator
     if name not in est:
-        print(f"driveby_check: {name} needs accelerometers on axles 1 and 2", file=sys.stderr)
-        return 2
+        return fail("driveby_check", f"{args.run}: {name} needs accelerometers on axles 1 and 2")
     # Decided before the truth: the bound the records support (step 4, the slowest pass)
     # and whether a peak stands out of the off-bridge floor at all.
     bound_hz = 2 * max(r["resolution_hz"] for r in rows)
@@ -446,8 +459,7 @@ def main(argv: list[str]) -> int:
     try:
         f1 = truth_f1(args.run)
     except (KeyError, IndexError, ValueError) as e:
-        print(f"driveby_check: no truth f1 ({TRUTH_BRIDGE}): {e}", file=sys.stderr)
-        return 2
+        return fail("driveby_check", f"{args.run}: no truth f1 ({TRUTH_BRIDGE}): {e}")
     bound = bound_hz / f1
     tol = args.tol if args.tol is not None else bound
     names = [n for n in ESTIMATORS if n in est]
@@ -491,4 +503,4 @@ def main(argv: list[str]) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main(sys.argv[1:]))
+    sys.exit(guard("driveby_check", main, sys.argv[1:]))

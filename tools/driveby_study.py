@@ -18,14 +18,17 @@ estimate of all passes), ``error_vs_speed.svg`` (|error| of each estimator again
 one panel per road, with the bound 2v/L and Yang's shift v/(2L)), ``success.svg`` (the share of runs
 passing: a peak 10 dB over the off-bridge floor within the bound 2v/L, per estimator, speed and
 road) and ``summary.md``.
+
+Exit status 0 when the study is written; 2, one line on stderr naming the file, when the
+bridgetwin binary (``--bt``) is missing, empty, cut short, not a program or not bridgetwin,
+or one of its runs fails or gives a file driveby_check.py cannot read
+(``tools/bad_input.py``); 4 when the tool itself failed.
 """
 
 from __future__ import annotations
 
 import argparse
 import csv
-import os
-import subprocess
 import sys
 import tempfile
 import time
@@ -35,6 +38,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import driveby_check as dc  # noqa: E402
+from bad_input import BadInput, check_binary, guard, reader_error, run_binary  # noqa: E402
 
 SPAN, WHEELBASE = 30.0, 3.0
 
@@ -109,12 +113,17 @@ def run_grid(args) -> tuple[list[dict], float, float]:
                     toml, mcap = Path(tmp, "run.toml"), Path(tmp, "run.mcap")
                     toml.write_text(scenario(speed, road, seed, args.passes, args.rate_hz))
                     t0 = time.perf_counter()
-                    subprocess.run([args.bt, "simulate", str(toml), "--out", str(mcap), "--force", "--quiet"], check=True, stderr=subprocess.DEVNULL)
+                    run_binary([args.bt, "simulate", str(toml), "--out", str(mcap), "--force", "--quiet"])
                     t1 = time.perf_counter()
-                    res = dc.estimate(str(mcap), opts)
-                    f1 = dc.truth_f1(str(mcap))
-                    # The truth, to explain: the bridge's acceleration under the front wheel on it.
-                    states = dc.read(str(mcap), [r"/truth/vehicle_state/\d+"])[0].values()
+                    try:
+                        res = dc.estimate(str(mcap), opts)
+                        f1 = dc.truth_f1(str(mcap))
+                        # The truth, to explain: the bridge's acceleration under the front wheel on it.
+                        states = dc.read(str(mcap), [r"/truth/vehicle_state/\d+"])[0].values()
+                    except ValueError as e:  # what driveby_check finds wrong: the message names the file
+                        raise BadInput(f"{e} (a run of {args.bt})") from None
+                    except Exception as e:  # noqa: BLE001 - a file the readers cannot read
+                        raise reader_error(mcap, e) from None
                     acc_rms = float(np.mean([bridge_rms(st) for st in states]))
                     ana_s += time.perf_counter() - t1
                     sim_s += t1 - t0
@@ -317,9 +326,7 @@ def main(argv: list[str]) -> int:
     args = p.parse_args(argv)
     if args.quick:
         args.speeds, args.roads, args.seeds = [2.0, 10.0], ["A", "C"], 1
-    if not os.access(args.bt, os.X_OK):
-        print(f"driveby_study: no bridgetwin binary at {args.bt} (--bt)", file=sys.stderr)
-        return 2
+    args.bt = check_binary(args.bt)
     Path(args.out).mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
     rows, sim_s, ana_s = run_grid(args)
@@ -336,4 +343,4 @@ def main(argv: list[str]) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main(sys.argv[1:]))
+    sys.exit(guard("driveby_study", main, sys.argv[1:]))

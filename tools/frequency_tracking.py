@@ -43,8 +43,10 @@ drop exceeds the band by a few s: the run prints the smallest drop so detected (
 the miss rate per window 0.13 %). ``--max-delay-s`` defaults to (m + 1) L.
 
 Exit status 0 when the onset is detected within ``--max-delay-s`` and no alarm came before
-it (a run without damage: no alarm at all), 1 otherwise, 2 on bad input (unreadable file,
-no accelerometer or thermometer, too few training windows, no truth).
+it (a run without damage: no alarm at all), 1 otherwise, 2 on bad input, one line on
+stderr naming the file (no such file, empty, not an MCAP file, truncated; no accelerometer
+or no deck thermometer: not the frequency_tracking example; too few training windows, no
+truth: ``tools/bad_input.py``), 4 when the tool itself failed.
 
 [1] B. Peeters, G. De Roeck, One-year monitoring of the Z24-Bridge: environmental effects
     versus damage events, Earthq. Eng. Struct. Dyn. 30 (2001) 149-171.
@@ -81,6 +83,8 @@ for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
 import numpy as np  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+from bad_input import check_mcap, fail, guard, reader_error, require_topics, summary_of  # noqa: E402
+
 ACCEL, TEMP, TRUTH, EVENTS = "/sensors/accel/", "/sensors/temp/", "/truth/bridge", "/events"
 
 
@@ -369,18 +373,24 @@ def main(argv: list[str]) -> int:
 
     logging.disable(logging.INFO)  # pyoma2 logs every step at INFO
     clock = time.perf_counter()
+    check_mcap(args.run)
+    topics = [c.topic for c in summary_of(args.run).channels.values()]
+    require_topics(args.run, (ACCEL,), "accelerometer", "frequency_tracking", topics)
+    require_topics(args.run, (TEMP,), "deck thermometer", "frequency_tracking", topics)
     try:
         data, fs, start_ns, temp_t, temp_v, accel, temps = load_measured(args.run)
         rows, model, alarm_idx = track(data, fs, start_ns, temp_t, temp_v, args)
+    except ValueError as e:  # what the steps find wrong in the data
+        return fail("frequency_tracking", e if str(e).startswith(args.run) else f"{args.run}: {e}")
     except Exception as e:  # noqa: BLE001 - a file the readers cannot read is bad input
-        print(f"frequency_tracking: {type(e).__name__}: {e}", file=sys.stderr)
-        return 2
+        return fail("frequency_tracking", reader_error(args.run, e))
     elapsed, hours = time.perf_counter() - clock, len(data) / fs / 3600
     try:  # the decision is made: only now the truth, to score it
         truth_t, truth_f1, onset_ns = read_truth(args.run)
+    except ValueError as e:
+        return fail("frequency_tracking", e)
     except Exception as e:  # noqa: BLE001
-        print(f"frequency_tracking: {type(e).__name__}: {e}", file=sys.stderr)
-        return 2
+        return fail("frequency_tracking", reader_error(args.run, e))
     result = score(rows, alarm_idx, truth_t, truth_f1, onset_ns, start_ns, args)
     band = float(np.nanmedian([r["band_rel"] for r in rows]))
     err = result["f1_error_rel"]
@@ -434,4 +444,4 @@ def main(argv: list[str]) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main(sys.argv[1:]))
+    sys.exit(guard("frequency_tracking", main, sys.argv[1:]))

@@ -24,7 +24,9 @@ What it does, as a monitoring engineer would with a real installation's files:
    bridge mode (a vehicle's bounce, a load band edge) are listed, not scored.
 
 Exit status 0 when every scored mode's SSI frequency is within ``--tol`` (relative) of the
-truth, 1 otherwise, 2 on bad input. Damping is reported, not scored: its estimate from
+truth, 1 otherwise, 2 on bad input, with one line on stderr naming the file (no such file,
+empty, not an MCAP file, truncated, no accelerometer topic, too few samples, no truth:
+``tools/bad_input.py``), 4 when the tool itself failed. Damping is reported, not scored: its estimate from
 short ambient records scatters by tens of percent.
 """
 
@@ -38,6 +40,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+from bad_input import check_mcap, fail, guard, reader_error, require_topics  # noqa: E402
 from read_run import list_topics, load_topics  # noqa: E402
 
 ACCEL_PREFIX = "/sensors/accel/"
@@ -213,18 +216,37 @@ def main(argv: list[str]) -> int:
     p.add_argument("--end-s", type=float, default=None, help="ignore the record after (s)")
     p.add_argument("--json", help="write the result table here")
     args = p.parse_args(argv)
+    check_mcap(args.run)
+    require_topics(args.run, (ACCEL_PREFIX,), "accelerometer", "ambient_monitoring")
     try:
         data, fs_hz, names, filled = load_accelerations(args.run, args.start_s, args.end_s)
+    except ValueError as e:  # what load_accelerations finds wrong: its message names the file
+        return fail("oma_check", e)
     except Exception as e:  # noqa: BLE001 - a file the readers cannot read is bad input
-        print(f"oma_check: {type(e).__name__}: {e}", file=sys.stderr)
-        return 2
+        return fail("oma_check", reader_error(args.run, e))
+    # What pyoma2 needs, said before it fails with its own words: FDD decomposes the
+    # cross-spectral matrix of two channels or more, over segments overlapping by half.
+    if data.shape[1] < 2:
+        return fail(
+            "oma_check",
+            f"{args.run}: {data.shape[1]} accelerometer topic ({', '.join(names)}): the analysis needs two or more: "
+            "is it the ambient_monitoring example?",
+        )
+    if data.shape[0] <= args.nxseg // 2:
+        return fail(
+            "oma_check",
+            f"{args.run}: {data.shape[0]} samples ({data.shape[0] / fs_hz:.1f} s): too short for FDD segments of "
+            f"--nxseg {args.nxseg} (more than {args.nxseg // 2} samples needed)",
+        )
     # Blind: the picking sees the data only; the truth is read afterwards to score.
-    found = identify(data, fs_hz, args)
+    try:
+        found = identify(data, fs_hz, args)
+    except (ValueError, np.linalg.LinAlgError) as e:  # pyoma2 on a record it cannot decompose
+        return fail("oma_check", f"{args.run}: the identification failed on this record: {type(e).__name__}: {e}")
     try:
         truth_f, truth_z = truth_modes(args.run)
     except (OSError, ValueError, KeyError) as e:
-        print(f"oma_check: {e}", file=sys.stderr)
-        return 2
+        return fail("oma_check", f"{args.run}: no truth to score against ({TRUTH_BRIDGE}): {e}")
     usable = [k for k, f in enumerate(truth_f) if f < 0.4 * fs_hz][: args.modes]
     if len(usable) < args.modes:
         print(
@@ -271,4 +293,4 @@ def main(argv: list[str]) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main(sys.argv[1:]))
+    sys.exit(guard("oma_check", main, sys.argv[1:]))

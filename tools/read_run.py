@@ -9,10 +9,12 @@
     python3 tools/read_run.py run.mcap      # summary of a run
     python3 tools/read_run.py run.mcap /truth/axle_loads   # arrays of one topic
 
-The command exits 0 for a whole file, 3 for a damaged one (a killed run's `.partial`, a
-truncated copy: the intact part is read and printed, the damage said on stderr) and 1
-when nothing could be read, the topic has no message, or (summary) the file has no
-`/sensors/` topic.
+The command exits 0 for a whole file; 3 for a damaged one (a killed run's `.partial`, a
+truncated copy: the intact part is read and printed, the damage said on stderr); 1 when
+the topic is not in the file or has no message, or (summary) the file has no `/sensors/`
+topic; 2, with one line on stderr naming the file, when there is nothing to read: no such
+file, empty, not an MCAP file, or damaged or truncated before its first intact message
+(`tools/bad_input.py`); 4 when the tool itself failed.
 
 Messages are decoded with the schema stored in the file itself (the official `mcap` and
 `mcap-protobuf-support` packages), so no generated code is needed and new fields simply
@@ -37,6 +39,7 @@ from __future__ import annotations
 
 import sys
 from collections import defaultdict
+from pathlib import Path
 from typing import Any, Iterable
 
 import numpy as np
@@ -45,6 +48,9 @@ from mcap.reader import make_reader
 from mcap.records import Channel, Footer, Message, Schema
 from mcap.stream_reader import StreamReader
 from mcap_protobuf.decoder import DecoderFactory
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from bad_input import BadInput, check_mcap, fail, guard, is_cut  # noqa: E402
 
 # SampleBlock.quantity -> name of the same column in the per-sample messages.
 BLOCK_VALUE_NAMES = {
@@ -134,7 +140,8 @@ def iter_intact_messages(path: str, topics: Iterable[str] | None = None, damage:
                         decoders[record.channel_id] = factory.decoder_for(channel.message_encoding, schema)
                     yield channel, record, decoders[record.channel_id](record.data)
         except Exception as e:  # noqa: BLE001 - the damaged tail of an interrupted file
-            problem = f"intact up to message {count}; then {type(e).__name__}: {e}"
+            detail = str(e) or "the data ends in the middle of a record"  # mcap's EndOfFile says nothing
+            problem = f"intact up to message {count}; then {type(e).__name__}: {detail}"
     if problem is None and not finished:
         problem = f"intact up to message {count}; then the file ends without its footer"
     if problem is not None:
@@ -346,9 +353,10 @@ def print_summary(path: str, damage: Damage | None = None) -> int:
     return stats.message_count
 
 
-# Exit status of the command line: 1 when nothing could be read (the file is not an MCAP
-# file, the topic has no message, no sensor topic), 3 when the file is damaged and its
-# intact part was read and printed.
+# Exit status of the command line: 1 when the file has nothing asked for (the topic has no
+# message or is not in the file, no sensor topic), 3 when the file is damaged and its
+# intact part was read and printed; 2 (bad_input.EXIT_BAD_INPUT) when there is nothing to
+# read.
 EXIT_UNREADABLE = 1
 EXIT_DAMAGED = 3
 
@@ -357,30 +365,45 @@ def main(argv: list[str]) -> int:
     if len(argv) not in (2, 3):
         print(__doc__.split("\n\n")[1], file=sys.stderr)
         return 2
+    path = argv[1]
+    try:
+        # A cut file is what this command reads the intact part of: only a file that is
+        # no MCAP file at all stops it here.
+        check_mcap(path, cut_ok=True)
+    except BadInput as e:
+        return fail("read_run", e)
     damage = Damage()
     try:
         if len(argv) == 2:
-            count = print_summary(argv[1], damage)
-            if count and not any(t.startswith(SENSOR_PREFIXES) for t in list_topics(argv[1], damage)):
-                print(f"{argv[1]}: no topic under {', '.join(SENSOR_PREFIXES)}: nothing was measured", file=sys.stderr)
+            count = print_summary(path, damage)
+            if count and not any(t.startswith(SENSOR_PREFIXES) for t in list_topics(path, damage)):
+                print(f"{path}: no topic under {', '.join(SENSOR_PREFIXES)}: nothing was measured", file=sys.stderr)
                 return EXIT_UNREADABLE
         else:
-            arrays = load_topic(argv[1], argv[2], damage)
+            arrays = load_topic(path, argv[2], damage)
             count = len(arrays.get("time_s", []))
             print(f"{argv[2]}: {count} rows")
             for name, array in arrays.items():
                 print(_describe(name, array))
-    except Exception as e:  # noqa: BLE001 - any reader or decoder error ends the command
-        print(f"{argv[1]}: cannot be read: {type(e).__name__}: {e}", file=sys.stderr)
+    except ValueError as e:  # load_topics: a topic the file does not have
+        print(f"{path}: {e}" if not str(e).startswith(path) else str(e), file=sys.stderr)
         return EXIT_UNREADABLE
+    except BrokenPipeError:
+        raise
+    except Exception as e:  # noqa: BLE001 - any reader or decoder error ends the command
+        return fail("read_run", f"{path}: damaged: {type(e).__name__}: {e}")
+    if count == 0 and damage:
+        if is_cut(path):
+            return fail("read_run", f"{path}: truncated before its first intact message ({damage.problems[0]})")
+        return fail("read_run", f"{path}: damaged before its first intact message ({damage.problems[0]})")
     if count == 0:
-        print(f"{argv[1]}: no message could be read", file=sys.stderr)
+        print(f"{path}: no message could be read", file=sys.stderr)
         return EXIT_UNREADABLE
     if damage:
-        print(f"{argv[1]}: damaged, read what is intact: {'; '.join(damage.problems)}", file=sys.stderr)
+        print(f"{path}: damaged, read what is intact: {'; '.join(damage.problems)}", file=sys.stderr)
         return EXIT_DAMAGED
     return 0
 
 
 if __name__ == "__main__":
-    sys.exit(main(sys.argv))
+    sys.exit(guard("read_run", main, sys.argv))

@@ -12,12 +12,13 @@ Units are in the column names (``acceleration_m_s2``, ``strain_microstrain``,
 """
 
 from ._native import ReadError, ScenarioError, SimulationError, __version__
-from ._read import DamagedFileWarning, Run, read, run_files
+from ._read import DamagedFileWarning, InterruptedRunWarning, Run, read, run_files
 from ._simulate import check, default_scenario, simulate
 from . import plot
 
 __all__ = [
     "DamagedFileWarning",
+    "InterruptedRunWarning",
     "ReadError",
     "Run",
     "ScenarioError",

@@ -22,6 +22,15 @@ class DamagedFileWarning(UserWarning):
     """A file of the run is damaged or cut short: it was read up to the damage."""
 
 
+class InterruptedRunWarning(UserWarning):
+    """A file of the run is a ``.partial``: the output of a run that was stopped (Ctrl-C,
+    SIGTERM) or killed before it finished. Its data may end before the scenario's
+    duration, even when the file itself is whole (a stopped run closes its file)."""
+
+
+PARTIAL_SUFFIX = ".partial"
+
+
 class Run(Mapping[str, pd.DataFrame]):
     """A bridgetwin run: topic name -> DataFrame, plus what the files say about it.
 
@@ -196,7 +205,9 @@ def read(
             refused.
         topics: topic names or patterns with ``*`` (``"/sensors/*"``); ``None`` reads all.
 
-    A ``.partial`` file (a killed run) or a damaged copy is read up to the damage, with a
+    A ``.partial`` file (the output of a stopped or killed run) gives an
+    :class:`InterruptedRunWarning`: its data may end early. A damaged file (a killed run's
+    ``.partial``, a copy cut short) is read up to the damage, with a
     :class:`DamagedFileWarning` saying where the intact part ends (also in
     ``run.damage``). Raises ``bridgetwin.ReadError`` when nothing can be read.
     """
@@ -205,6 +216,14 @@ def read(
         topics = [topics]
     raw = _native.read_run([os.fspath(f) for f in files], None if topics is None else list(topics))
     run = Run(raw)
+    for f in files:
+        if os.fspath(f).endswith(PARTIAL_SUFFIX):
+            warnings.warn(
+                f"{os.fspath(f)}: the output of an interrupted run (stopped or killed before it "
+                "finished): its data may end before the scenario's duration",
+                InterruptedRunWarning,
+                stacklevel=2,
+            )
     for line in run.damage:
         warnings.warn(line, DamagedFileWarning, stacklevel=2)
     return run

@@ -4,11 +4,12 @@ from __future__ import annotations
 
 import os
 import tempfile
+import warnings
 from pathlib import Path
 from typing import Any
 
 from . import _native
-from ._read import Run, read
+from ._read import InterruptedRunWarning, Run, read
 
 Scenario = dict[str, Any] | str | os.PathLike | None
 
@@ -95,7 +96,10 @@ def simulate(
             # The temporary folder goes with this call: what ran so far comes back on the
             # exception as `run` (its `partial` file is gone).
             partial = getattr(e, "partial", None)
-            e.run = read(partial) if partial and Path(partial).exists() else None
+            with warnings.catch_warnings():
+                # The KeyboardInterrupt already says the run was interrupted.
+                warnings.simplefilter("ignore", InterruptedRunWarning)
+                e.run = read(partial) if partial and Path(partial).exists() else None
             e.partial = None
             raise
         return read(files)

@@ -281,13 +281,30 @@ def _float(text: Any) -> float | None:
         return None
 
 
+_MCAP_MAGIC = b"\x89MCAP0\r\n"
+
+
+def _is_cut(path: str | os.PathLike) -> bool:
+    """Whether a file ends without the MCAP magic: cut short, not damaged inside."""
+    with open(path, "rb") as f:
+        size = f.seek(0, os.SEEK_END)
+        f.seek(max(size - len(_MCAP_MAGIC), 0))
+        return f.read() != _MCAP_MAGIC
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """``python -m bridgetwin RUN [--out overview.png] [--sensors T ...]``: the overview of
-    a run (a file, a glob of hourly parts or a split run's name)."""
+    a run (a file, a glob of hourly parts or a split run's name).
+
+    Exit status 0 when drawn; 3 when a file of the run is damaged or cut short and its
+    intact part was drawn (one line on stderr says where it ends); 2, one line on stderr
+    naming the file, when there is nothing to draw: no such file, empty, not an MCAP
+    file, nothing intact before the damage, no sensor topic."""
     import argparse
+    import sys
     import time
 
-    from ._read import read
+    from ._read import DamagedFileWarning, InterruptedRunWarning, read
 
     p = argparse.ArgumentParser(prog="python -m bridgetwin", description=main.__doc__)
     p.add_argument("run", help="run.mcap, 'day-*.mcap' or day.mcap (its hourly parts)")
@@ -299,8 +316,34 @@ def main(argv: Sequence[str] | None = None) -> int:
 
     matplotlib.use("Agg")
     started = time.perf_counter()
-    run = read(args.run)
+    name = "python -m bridgetwin"
+    if os.path.isfile(args.run) and os.path.getsize(args.run) == 0:
+        print(f"{name}: {args.run}: empty (0 bytes)", file=sys.stderr)
+        return 2
+    try:
+        with warnings.catch_warnings():
+            # Said once below, on one line each, instead of Python's two-line warnings.
+            warnings.simplefilter("ignore", DamagedFileWarning)
+            warnings.simplefilter("ignore", InterruptedRunWarning)
+            run = read(args.run)
+    except (_native.ReadError, OSError) as e:  # FileNotFoundError names the path already
+        text = str(e) if os.fspath(args.run) in str(e) else f"{args.run}: {e}"
+        print(f"{name}: {text.splitlines()[0]}", file=sys.stderr)
+        return 2
+    rows = sum(len(run[t]) for t in run.sensors())
+    if rows == 0:
+        if run.damage:
+            cut = [p["path"] for p in run.parts if p["damage"] is not None and _is_cut(p["path"])]
+            what = "truncated" if cut else "damaged"
+            why = f"{what} before its first intact message, nothing to draw: {'; '.join(run.damage)}"
+        else:
+            why = f"{args.run}: no sensor topic (/sensors/*) has a message: nothing to draw"
+        print(f"{name}: {why}", file=sys.stderr)
+        return 2
     overview(run, sensors=args.sensors, out=args.out, buckets=args.buckets)
     print(f"{args.out}: {run!r}, drawn in {time.perf_counter() - started:.1f} s")
+    if run.damage:
+        print(f"{name}: drew the intact part: {'; '.join(run.damage)}", file=sys.stderr)
+        return 3
     return 0
 

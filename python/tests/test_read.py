@@ -231,3 +231,26 @@ def test_a_cut_file_reads_up_to_the_damage_with_a_warning(runs, scratch):
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         bridgetwin.read(runs / "block.mcap")  # a whole file warns nothing
+
+
+def test_a_partial_file_warns_that_it_is_an_interrupted_runs_output(runs, scratch):
+    """A `.partial` is what a stopped or killed run leaves: even whole (a stopped run closes
+    its file) its data may end before the scenario's duration, and the reader says so. The
+    same bytes under the final name warn nothing: the warning follows the name, which is
+    all that tells an interrupted run's whole file from a finished one."""
+    whole = runs / "whole.mcap"
+    partial = scratch / "whole.mcap.partial"
+    partial.write_bytes(whole.read_bytes())
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        run = bridgetwin.read(partial)
+    assert [w.category for w in caught] == [bridgetwin.InterruptedRunWarning], [str(w.message) for w in caught]
+    message = str(caught[0].message)
+    assert str(partial) in message and "interrupted run" in message and "may end" in message, message
+    assert run.damage == []
+    # The name without .partial finds it (as the command line does) and warns the same.
+    with pytest.warns(bridgetwin.InterruptedRunWarning, match="interrupted run"):
+        bridgetwin.read(scratch / "whole.mcap")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        bridgetwin.read(whole)

@@ -131,31 +131,31 @@ def test_a_bad_scenario_writes_nothing(scratch):
 
 def test_simulate_releases_the_gil(scratch):
     """While a run goes on another thread, this thread keeps running Python: with the GIL
-    held it would get no turn for the whole run (seconds)."""
-    done = threading.Event()
-    ticks = 0
+    held it would get no turn from the run's first step to its last, and count nothing
+    between the two events. How long the gaps between its turns are is measured by
+    python/benches/gil_and_stop.py, not here: that is the machine's business."""
+    entered, done = threading.Event(), threading.Event()
+    written = []
 
     def work():
-        bridgetwin.simulate(REPO / "examples" / "hour_of_traffic.toml", out=scratch / "gil.mcap", duration_s=600.0)
+        entered.set()
+        written.extend(
+            bridgetwin.simulate(REPO / "examples" / "hour_of_traffic.toml", out=scratch / "gil.mcap", duration_s=600.0)
+        )
         done.set()
 
     worker = threading.Thread(target=work)
-    started = time.perf_counter()
     worker.start()
-    gaps = []
-    last = time.perf_counter()
+    entered.wait()
+    ticks = 0
     while not done.is_set():
-        now = time.perf_counter()
-        gaps.append(now - last)
-        last = now
         ticks += 1
         time.sleep(0.001)
     worker.join()
-    took = time.perf_counter() - started
-    assert took > 0.5, f"the run took only {took:.2f} s: too short to show anything"
-    # Python's switch interval is 5 ms; a held GIL would leave one gap as long as the run.
-    assert max(gaps) < 0.25 * took, (max(gaps), took)
-    assert ticks > 50
+    assert written and all(p.exists() for p in written), written
+    # Turns taken while the run went on: a held GIL leaves at most the one or two before
+    # the run's first step; a released one, one per millisecond of a run of seconds.
+    assert ticks > 50, ticks
 
 
 def test_ctrl_c_stops_the_run_and_keeps_a_partial(scratch):
@@ -178,17 +178,18 @@ def test_ctrl_c_stops_the_run_and_keeps_a_partial(scratch):
     child = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True)
     assert child.stdout.readline().strip() == "started"
     time.sleep(2.0)
-    sent = time.perf_counter()
     child.send_signal(signal.SIGINT)
-    rest, _ = child.communicate(timeout=30)
-    stopped_in = time.perf_counter() - sent
+    # A deadline so that a run that ignores Ctrl-C fails instead of hanging; how soon it
+    # stops is measured by python/benches/gil_and_stop.py.
+    rest, _ = child.communicate(timeout=60)
     assert child.returncode == 130, rest
     partial = out.with_name(out.name + ".partial")
     assert rest.split() == ["interrupted", str(partial)]
     assert not out.exists() and partial.exists()
-    assert stopped_in < 5.0, stopped_in
-    # A stopped run closes its file (summary and all): whole, only shorter.
-    run = bridgetwin.read(partial)
+    # A stopped run closes its file (summary and all): whole, only shorter, and read with
+    # a warning that it is an interrupted run's output.
+    with pytest.warns(bridgetwin.InterruptedRunWarning, match="interrupted run"):
+        run = bridgetwin.read(partial)
     assert run.damage == []
     accel = run[run.sensors("accel")[0]]
     assert 0 < accel["time_s"].iloc[-1] < 100000.0

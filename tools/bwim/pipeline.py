@@ -1,6 +1,10 @@
 """The whole B-WIM run, from the file to the exit status (tools/bwim_check.py docstring):
 read, find the axles (FAD gauges or road axle detectors), calibrate on the truck's runs (or
-load a calibration), weigh, and only then read the truth and score."""
+load a calibration), weigh, and only then read the truth and score.
+
+An input it cannot use (no such file, empty, not an MCAP file, truncated, a run without
+the example's gauges, an unusable calibration file) raises ``BadInput`` (tools/bad_input.py):
+tools/bwim_check.py prints its line and exits 2."""
 
 from __future__ import annotations
 
@@ -9,10 +13,12 @@ import sys
 import time
 from pathlib import Path
 
-from .axles import detect_vehicles
+from bad_input import BadInput, check_exists, check_run, reader_error, require_topics
+
+from .axles import detect_vehicles, fad_channels
 from .calibration import Calibration, calibrate, calibration_runs, leave_one_out
 from .cost323 import class_rank
-from .io import TRUTH_VEHICLES, read_axle_truth, read_strains, read_truth, weighing_sections
+from .io import AXLE_PREFIX, STRAIN_PREFIX, TRUTH_VEHICLES, read_axle_truth, read_strains, read_truth, weighing_sections
 from .report import axle_truth_lines, plot, print_report, write_json
 from .scoring import score_run, vehicle_errors
 from .tapes import detect_vehicles_tapes
@@ -26,20 +32,51 @@ def detect(rec, geo, args):
     return detect_vehicles(rec, geo, args)
 
 
-def run(args) -> int:
-    t_start = time.perf_counter()
+EXAMPLE = "bwim_calibration"  # examples/bwim_calibration.toml: the installation this is made for
+
+
+def load_calibration(path: str) -> Calibration:
+    """The calibration written by --save-calibration, or BadInput naming the file."""
+    check_exists(path, "calibration file")
+    try:
+        return Calibration.from_json(json.loads(Path(path).read_text()))
+    except (ValueError, KeyError, TypeError, AttributeError) as e:  # JSONDecodeError is a ValueError
+        raise BadInput(
+            f"{path}: not a calibration file written by --save-calibration ({type(e).__name__}: {e})"
+        ) from None
+
+
+def read_record(args):
+    """The strain record of the run, after the checks that say plainly what is wrong with
+    a file that is not a B-WIM installation's run."""
+    files = check_run(args.run)
+    topics = require_topics(files[0], (STRAIN_PREFIX,), "strain gauge", EXAMPLE)
+    if args.axles == "detectors":
+        require_topics(files[0], (AXLE_PREFIX,), "road axle detector", EXAMPLE)
     try:
         rec = read_strains(args.run)
+    except ValueError as e:  # what read_strains finds wrong: its message names the file
+        raise BadInput(str(e)) from None
     except Exception as e:  # noqa: BLE001 - a file the readers cannot read is bad input
-        print(f"bwim_check: {type(e).__name__}: {e}", file=sys.stderr)
-        return 2
+        raise reader_error(args.run, e) from None
+    if args.axles == "fad":
+        try:
+            fad_channels(rec, args.fad_max_m)
+        except ValueError as e:
+            raise BadInput(f"{args.run}: {e} among its {len(topics)} strain gauges: is it the {EXAMPLE} example?") from None
+    return rec
+
+
+def run(args) -> int:
+    t_start = time.perf_counter()
+    rec = read_record(args)
     t_read = time.perf_counter() - t_start
     fad = args.axles == "fad"
     try:
         cal = None
         geo = None
         if args.calibration_from:
-            cal = Calibration.from_json(json.loads(Path(args.calibration_from).read_text()))
+            cal = load_calibration(args.calibration_from)
             if cal.axles != args.axles:
                 raise ValueError(
                     f"{args.calibration_from} was calibrated with --axles {cal.axles}: "
@@ -98,19 +135,22 @@ def run(args) -> int:
         vehicles = [v for v in vehicles if all(v is not d for d in dropped)]
         for k, v in enumerate(vehicles):
             v.index = k
-    except ValueError as e:
-        print(f"bwim_check: {e}", file=sys.stderr)
+    except ValueError as e:  # what the steps find wrong with the run: no vehicle, no calibration run ...
+        print(f"bwim_check: {args.run}: {e}", file=sys.stderr)
         return 2
     t_process = time.perf_counter() - t_start
     if args.save_calibration:
         Path(args.save_calibration).write_text(json.dumps(cal.to_json(), indent=1))
     # ---- only now the truth of the traffic
     if truth is None:
-        truth = read_truth(args.run)
+        try:
+            truth = read_truth(args.run)
+        except (KeyError, ValueError) as e:
+            raise BadInput(f"{args.run}: no truth to score against ({TRUTH_VEHICLES}): {e}") from None
     s = score_run(rec, vehicles, groups, truth, loo, geo, args)
     if not s.weighed:
         print(
-            f"bwim_check: no traffic vehicle over 3.5 t was detected and weighed ({len(s.heavy_truth)} in the truth)",
+            f"bwim_check: {args.run}: no traffic vehicle over 3.5 t was detected and weighed ({len(s.heavy_truth)} in the truth)",
             file=sys.stderr,
         )
         return 2
