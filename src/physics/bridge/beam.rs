@@ -36,10 +36,9 @@ pub struct BeamProperties {
 /// (see `BeamProperties::validate`).
 pub const MAX_SPRING_TO_GIRDER: f64 = 1e10;
 
+// Deserialized by hand rather than as an untagged enum, whose only message for a wrong
+// shape is "did not match any variant": a list of three values is told a haunch has two.
 /// A value constant over a segment, or varying linearly from its start to its end.
-///
-/// Read by hand rather than as an untagged enum, whose only message for a wrong shape is
-/// "did not match any variant": a list of three values is told that a haunch has two.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, JsonSchema)]
 #[serde(untagged)]
 pub enum Varying {

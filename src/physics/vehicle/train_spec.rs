@@ -163,14 +163,17 @@ impl TrainSpec {
                 ))
             }
             // `cars` absent and `cars = []` deserialize alike: the message fits both.
-            (None, true) => return Err(Error::invalid(
-                path,
-                "a train without a preset or a car",
-                format!(
-                    "needs preset = \"...\" (one of {}) or cars = [ ... ] with at least one car",
-                    TRAIN_PRESETS.join(", ")
-                ),
-            )),
+            (None, true) => {
+                return Err(Error::invalid(
+                    path,
+                    "a train without a preset or a car",
+                    format!(
+                        "needs preset = \"...\" (one of {}) or cars = [ ... ] with at least \
+                         one car",
+                        TRAIN_PRESETS.join(", ")
+                    ),
+                ))
+            }
         };
         train.name = self.model_name();
         let representation = match self.representation {
