@@ -64,13 +64,11 @@ def check_mcap(path: str | os.PathLike, cut_ok: bool = False) -> None:
     size = p.stat().st_size
     with open(p, "rb") as f:
         head = f.read(len(MAGIC))
-        f.seek(max(size - len(MAGIC), 0))
-        tail = f.read(len(MAGIC))
     if not head.startswith(MAGIC[: len(head)]):
         raise BadInput(f"{path}: not an MCAP file (it starts with {head!r}, not the MCAP magic)")
     if len(head) < len(MAGIC) or (size < MIN_WHOLE_BYTES and not cut_ok):
         raise BadInput(f"{path}: truncated: {size} bytes, too short for an MCAP file")
-    if tail != MAGIC and not cut_ok:
+    if not cut_ok and is_cut(p):
         raise BadInput(
             f"{path}: truncated: {size} bytes and no MCAP footer at the end "
             "(a killed run's .partial or a copy cut short: tools/read_run.py reads its intact part)"

@@ -30,16 +30,17 @@ impl RunPath {
                 parts,
             });
         }
-        // `day.mcap.partial` for a split run: its parts are `day-0000.mcap[.partial]`.
+        // A `.partial` name is no split run's base: `day.mcap.partial` of a split run is
+        // `day-0000.mcap.partial`, not the part name built from it (`day.mcap-0000.partial`).
         if let Some(base) = path.to_str().and_then(|p| p.strip_suffix(".partial")) {
-            let parts = existing_parts(Path::new(base));
-            if let Some(last) = parts.last() {
-                bail!(
+            match existing_parts(Path::new(base)).last() {
+                Some(last) => bail!(
                     "no such file: {} ({base} is a split run: pass {base} or a part's name, \
                      such as {})",
                     path.display(),
                     last.display()
-                );
+                ),
+                None => bail!("no such file: {}", path.display()),
             }
         }
         let mut partial = path.as_os_str().to_os_string();
@@ -50,9 +51,6 @@ impl RunPath {
                 path.display(),
                 Path::new(&partial).display()
             );
-        }
-        if path.extension().is_some_and(|e| e == "partial") {
-            bail!("no such file: {}", path.display());
         }
         bail!(
             "no such file: {} (nor the parts of a split run, {})",

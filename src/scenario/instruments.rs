@@ -143,20 +143,23 @@ impl Scenario {
                     "must be a finite offset behind the front axle (m)",
                 ))
             }
-            (given_axle, given_offset) => {
-                let mut given = format!("{{ id = {}", mount.id);
-                if let Some(axle) = given_axle {
-                    given.push_str(&format!(", axle = {axle}"));
-                }
-                if let Some(offset) = given_offset {
-                    given.push_str(&format!(", body_offset_m = {}", num(offset)));
-                }
-                given.push_str(" }");
+            (Some(axle), Some(offset)) => {
                 return Err(Error::invalid(
                     format!("{path}.vehicle"),
-                    given,
+                    format!(
+                        "{{ id = {}, axle = {axle}, body_offset_m = {} }}",
+                        mount.id,
+                        num(offset)
+                    ),
                     "needs exactly one of axle (1 = front) or body_offset_m, not both",
-                ));
+                ))
+            }
+            (None, None) => {
+                return Err(Error::invalid(
+                    format!("{path}.vehicle"),
+                    format!("{{ id = {} }}", mount.id),
+                    "needs one of axle (1 = front) or body_offset_m",
+                ))
             }
         };
         if mount.axle == Some(0) {

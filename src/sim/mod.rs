@@ -38,6 +38,10 @@ pub use forecast::{forecast, MAX_DRAWN_VEHICLES};
 pub use manifest::manifest;
 use probes::Probes;
 pub use tap::SensorTap;
+
+/// How the last event of a run that a stop request (Ctrl-C, SIGTERM, a sweep's stop) ended
+/// before its scenario's end begins; readers (`inspect`) find a stopped run's file by it.
+pub const STOP_EVENT_PREFIX: &str = "run stopped on request at t = ";
 use tracking::Tracker;
 
 /// Headline results of a run.
@@ -349,7 +353,7 @@ pub fn run_controlled(
             t_ns: step * resolved.dt_ns,
             level: EventLevel::Warning,
             text: format!(
-                "run stopped on request at t = {:.3} s (step {step} of {}): the data ends here",
+                "{STOP_EVENT_PREFIX}{:.3} s (step {step} of {}): the data ends here",
                 step as f64 * dt_s,
                 resolved.steps
             ),

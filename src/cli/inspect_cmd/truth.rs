@@ -8,6 +8,7 @@ use prost::Message as _;
 
 use crate::output::proto::foxglove::Log;
 use crate::output::proto::v1::{AxleLoads, BridgeState, SampleBlock, SensorTruthBlock};
+use crate::sim::STOP_EVENT_PREFIX;
 
 /// Schema names (fully qualified protobuf message names) the report decodes.
 pub(super) const AXLE_LOADS: &str = "bridgetwin.v1.AxleLoads";
@@ -15,10 +16,6 @@ pub(super) const BRIDGE_STATE: &str = "bridgetwin.v1.BridgeState";
 pub(super) const SAMPLE_BLOCK: &str = "bridgetwin.v1.SampleBlock";
 pub(super) const SENSOR_TRUTH_BLOCK: &str = "bridgetwin.v1.SensorTruthBlock";
 pub(super) const LOG: &str = "foxglove.Log";
-
-/// How the run's last event begins when a stop request (Ctrl-C, SIGTERM, a sweep's stop)
-/// ended it before its scenario's end (written by `sim::run`).
-pub(super) const STOP_EVENT_PREFIX: &str = "run stopped on request at t = ";
 
 /// Samples carried by the block messages of one channel. A block is stamped with its first
 /// sample; the others follow at `sample_period_ns`.

@@ -71,6 +71,14 @@ pub(super) fn instrument_cases() -> Vec<Case> {
             ],
         ),
         Case::edit(
+            "vehicle sensor with neither an axle nor a body offset",
+            &[
+                Remove("sensors.0.position_m"),
+                Set("sensors.0.vehicle", "{ id = 1 }"),
+            ],
+            &["sensors.0[A1].vehicle = { id = 1 }", "needs one of axle"],
+        ),
+        Case::edit(
             "vehicle sensor on the body 20 m behind the front axle of a half car",
             &[
                 Remove("sensors.0.position_m"),
