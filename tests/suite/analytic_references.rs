@@ -216,7 +216,7 @@ const VBI_PEAKS_100_MODES_M: [(f64, bool, f64); 4] = [
 
 /// The fast suite runs 50 modes (1/8 of the 100-mode cost: steps scale with w_N ~ N^2).
 /// 50 and 100 modes differ by <= 8.2e-8 relative, 100 and 200 by <= 2.1e-8 (measured;
-/// `vbi_peaks_converge_in_modes`), so 5e-7 pins the 100-mode references.
+/// `vbi_pin_agrees_with_200_modes_damped_ramp` in CI, every case opt-in), so 5e-7 pins the 100-mode references.
 ///
 /// Mode convergence, in CI: the solution at N = 6, 12 and 25 modes against 50. Each
 /// carries a bound on its truncation error (docs/physics.md section 5.7); the true error
@@ -486,30 +486,61 @@ fn a_wrong_reference_fails_against_vbi2d() {
     }
 }
 
-/// 25, 50, 100 and 200 modes (slow: ~5e5 steps per simulated second at 100 modes, 4x the
-/// steps and 8x the work at 200; ~1.5 min per case). Run with
-/// `cargo test --release --test suite analytic_references:: -- --ignored`. It checks the pins themselves to
-/// 1e-8; the CI checks of the same convergence are in `check_vbi_reference_peak` (the
-/// truncation bound against 50 modes) and `sprung_mass_matches_vbi2d_published_results`.
-#[test]
-#[ignore = "slow (tens of seconds): mode convergence of the sprung-mass reference"]
-fn vbi_peaks_converge_in_modes() {
-    let mut failures = Vec::new();
-    for (c, ramp, reference) in VBI_PEAKS_100_MODES_M {
-        let mut peaks = Vec::new();
-        for n in [25, 50, 100, 200] {
+/// The peak of one ladder case at each mode count: (modes, peak m, accepted steps).
+fn vbi_peaks_in_modes(case: usize, modes: &[usize]) -> Vec<(usize, f64, u64)> {
+    let (c, ramp, _) = VBI_PEAKS_100_MODES_M[case];
+    let peaks: Vec<_> = modes
+        .iter()
+        .map(|&n| {
             let problem = vbi_problem(c, ramp, n);
             let sol = problem.solve(&[problem.exit_time_s()]).unwrap();
-            peaks.push((n, sol.peak_midspan_deflection_m, sol.stats.accepted_steps));
-        }
-        println!("c {c} ramp {ramp}: (modes, peak m, steps) {peaks:?}");
-        let p100 = peaks[2].1;
-        let p200 = peaks[3].1;
-        if (p100 - reference).abs() > 1e-8 * reference || (p100 - p200).abs() > 1e-7 * p100 {
-            failures.push((c, ramp, p100, p200));
-        }
+            (n, sol.peak_midspan_deflection_m, sol.stats.accepted_steps)
+        })
+        .collect();
+    println!("c {c} ramp {ramp}: (modes, peak m, steps) {peaks:?}");
+    peaks
+}
+
+/// The 100-mode pin of one case against the same crossing at 100 and 200 modes: the
+/// pin is the 100-mode peak recorded to 10 digits (a rounding of at most 1.2e-10
+/// relative; measured 5e-12 to 4.2e-11: 4e-10 allows that rounding with a margin of 3 for
+/// another platform's round-off), and 200 modes move it by less than 1e-7
+/// (measured: 2.07e-8 damped on the ramp, 1.96e-8 undamped level, 9.6e-9 undamped
+/// ramp, 1.0e-11 damped level: 1e-7 is 4.8 times the largest).
+fn check_pin_against_200_modes(case: usize) {
+    let (c, ramp, reference) = VBI_PEAKS_100_MODES_M[case];
+    let peaks = vbi_peaks_in_modes(case, &[100, 200]);
+    let (p100, p200) = (peaks[0].1, peaks[1].1);
+    assert!(
+        (p100 - reference).abs() <= 4e-10 * reference,
+        "c {c} ramp {ramp}: 100 modes {p100:e} against the pin {reference:e}"
+    );
+    assert!(
+        (p100 - p200).abs() <= 1e-7 * p100,
+        "c {c} ramp {ramp}: 100 modes {p100:e}, 200 modes {p200:e}: {:.2e} apart",
+        (p100 - p200).abs() / p100
+    );
+}
+
+/// The claim that 100 modes are converged (the pins), in CI on the case where 200 modes
+/// move the peak most: the damped crossing of the ramp (2.07e-8 measured). About 25 s
+/// of one core (2.1e6 steps of 200 modes); the other three cases are the opt-in
+/// `vbi_pins_agree_with_200_modes_in_every_case`.
+#[test]
+fn vbi_pin_agrees_with_200_modes_damped_ramp() {
+    check_pin_against_200_modes(3);
+}
+
+/// Opt-in (about 2 min of one core): every case's pin against 100 and 200 modes, and
+/// the sequence 25, 50, 100, 200 printed for docs/physics.md. Run with
+/// `cargo test --release --test suite analytic_references:: -- --ignored`.
+#[test]
+#[ignore = "slow (2 min): the three other cases of vbi_pin_agrees_with_200_modes_damped_ramp"]
+fn vbi_pins_agree_with_200_modes_in_every_case() {
+    for case in 0..VBI_PEAKS_100_MODES_M.len() {
+        vbi_peaks_in_modes(case, &[25, 50]);
+        check_pin_against_200_modes(case);
     }
-    assert!(failures.is_empty(), "{failures:?}");
 }
 
 /// Tightening the tolerances 100x twice (30 modes, dashpot and ramp, the most sensitive

@@ -468,8 +468,10 @@ fn triggered_records_keep_only_the_passages_and_report_each_train() {
 fn over_three_sleepers_each_axle_is_three_loads_of_a_quarter_a_half_and_a_quarter() {
     // HSLM-A1 as moving forces over the 15 m span with the load spread over sleepers
     // 0.6 m apart, against Fryba's closed form summed over three loads per axle (P/4 at
-    // a behind, P/2 at, P/4 at a ahead of the wheel): the same tolerance as the verify
-    // row of the point loads (2e-3 of the peak); without the spread the reference is off.
+    // a behind, P/2 at, P/4 at a ahead of the wheel), within 2e-3 of the peak (measured
+    // 1.15e-3: the 40-element model and the 0.5 ms step; 2e-3 is 1.7 times that). The
+    // control: the same run against the point loads (1.48e-2 off) must miss that same
+    // tolerance, so the spread is what the test sees.
     use bridgetwin::studies::analytic::{MovingLoadTrain, SimplySupportedBeam};
     use bridgetwin::studies::hslm::StudyBridge;
     let bridge = StudyBridge::short_span();
@@ -533,13 +535,18 @@ fn over_three_sleepers_each_axle_is_three_loads_of_a_quarter_a_half_and_a_quarte
         err_point = err_point.max((u - unspread.deflection_m(7.5, t)).abs());
         peak = peak.max(u.abs());
     }
+    println!(
+        "spread vs three loads per axle {:.2e}, vs point loads {:.2e} of the peak",
+        err / peak,
+        err_point / peak
+    );
     assert!(
         err / peak < 2e-3,
         "spread vs three loads per axle: {:e}",
         err / peak
     );
     assert!(
-        err_point / peak > 2.0 * err / peak,
+        err_point / peak > 2e-3,
         "point loads would pass too: {:e}",
         err_point / peak
     );
