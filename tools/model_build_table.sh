@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Build time and peak memory of bridge models vs size, one process per model (the
-# README's "Big models" table). Each row runs the default scenario with its model
+# "Big models" table in docs/performance.md). Each row runs the default scenario with its model
 # replaced, for 1 ms of simulated time: the time and memory are the model's build and the
 # solver's set-up, plus a run's fixed cost (the default FE 50 row shows it).
 #

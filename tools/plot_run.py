@@ -4,7 +4,7 @@
     python3 tools/plot_run.py run.mcap --out run.png        # or 'day-*.mcap', day.mcap
     python3 -m bridgetwin run.mcap --out run.png       # the same
 
-Needs the package: ``pip install ./python`` (see the README). The overview draws a few
+Needs the package: ``pip install ./python`` (see docs/python.md). The overview draws a few
 representative accelerometers, strain and deflection with each vehicle's time on the
 bridge shaded, a PSD with the true f1 marked and per-vehicle peaks, decimated so that an
 hour draws in seconds.

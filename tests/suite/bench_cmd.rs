@@ -1,6 +1,6 @@
 //! `bridgetwin bench --quick --json`: it runs, its JSON has every path at 50 and 100
 //! nodes, every ratio is finite and every path is accurate. How fast a path is, is what
-//! the bench reports (and the README quotes from it), not something a test asserts: on a
+//! the bench reports (and docs/performance.md quotes from it), not something a test asserts: on a
 //! shared machine a timing threshold fails or passes for reasons of its own.
 
 use std::process::Command;

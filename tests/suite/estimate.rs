@@ -29,8 +29,8 @@ const MESSAGES_FACTOR: f64 = 1.02;
 /// measured spread of the types that dominate a file is +-25 % around the table's value.
 /// The worst measured so far is 1.23 (`paper_case`, 2 min; 1.10 at its full length).
 /// The factor holds at full length as well: every term is a count times a per-message
-/// size, so a longer run changes the weights of the types, not the ratios (README's
-/// table: full lengths within 0.97-1.13). A doubled channel or a wrong ratio for a
+/// size, so a longer run changes the weights of the types, not the ratios (the table in
+/// docs/scenarios.md: full lengths within 0.97-1.13). A doubled channel or a wrong ratio for a
 /// dominant type moves the estimate by more than 35 %.
 const BYTES_FACTOR: f64 = 1.35;
 
@@ -263,7 +263,7 @@ fn scenario_check_and_simulate_print_the_same_estimate_line() {
 /// (the day of traffic writes 24 files, more than 10 GB, and takes over an hour): steps, messages and bytes
 /// within the factors above, and the wall time the estimate announced beside the time the
 /// run took from its line to the end (reported, not checked: it is this machine's).
-/// Opt-in, for the README's table:
+/// Opt-in, for the table in docs/scenarios.md:
 /// `cargo test --release --test suite estimate::full_length -- --ignored --nocapture`
 /// (the table is also written to `target/estimate_full_length.md`).
 #[test]

@@ -1,4 +1,4 @@
-//! The import rule of the layers (`src/lib.rs`, README "Layers"): a module uses only the
+//! The import rule of the layers (`src/lib.rs`, docs/code.md): a module uses only the
 //! layers below it. Every `crate::<layer>` path in `src/` (code, not comments) is checked
 //! against the table below; an upward or sideways import fails with the file, the line and
 //! the rule it breaks. Inside `physics`, the sub-layers have their own table: the bridge

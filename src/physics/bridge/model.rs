@@ -30,7 +30,7 @@ pub const MAX_MODEL_SIZE: usize = 5000;
 /// keeps memory and step cost O(n), so round-off sets the limit. The stiffness's condition
 /// number grows as about 26 N^4 (4e18 at 20 000 elements), and at 30 000 the band Cholesky
 /// met a non-positive pivot. Meshes past about 1000 elements already lose f1 digits to it
-/// (README, "Big models").
+/// (docs/performance.md, "Big models").
 pub const MAX_ELEMENTS: usize = 20_000;
 
 /// Memory a model may need to be built and run (bytes, 2 GiB): a model whose
@@ -133,7 +133,7 @@ impl ModelSpec {
 
     /// Peak memory the model takes to build and to set up its solver (bytes), counted
     /// from the matrices each route holds at once (docs/physics.md section 3; measured
-    /// peaks in the README's build table lie within a factor of two of it):
+    /// peaks in the build table of docs/performance.md lie within a factor of two of it):
     /// - finite elements: about 80 band-sized vectors of the mesh's DOFs (K, M, C, K_eff,
     ///   their product and factor forms, the eigen-solution's copies), plus the columns
     ///   of K_eff^-1 the coupled step keeps for meshes of at most 1024 DOFs;
